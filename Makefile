@@ -1,0 +1,30 @@
+# dolfinx_seal -- the two commands of the README, plus developer targets.
+# Both provision the DOLFINx environment on first use (scripts/dx).
+DX ?= scripts/dx
+NP ?= 2
+PYTEST_FLAGS ?= -q -p no:cacheprovider
+
+.PHONY: demo test test-serial test-mpi test-slow lint bench env
+
+demo:  ## the main demo (writes into results/demo)
+	$(DX) python3 demos/reynolds_1d.py --out results/demo
+
+test: test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
+
+test-serial:
+	$(DX) python3 -m pytest $(PYTEST_FLAGS)
+
+test-mpi:
+	$(DX) mpirun -n $(NP) python3 -m mpi4py -m pytest $(PYTEST_FLAGS)
+
+test-slow:  ## heavier verification cases (not in CI's default suite)
+	$(DX) python3 -m pytest $(PYTEST_FLAGS) -m slow
+
+lint:  ## ruff runs on the host (no DOLFINx needed)
+	ruff format --check . && ruff check .
+
+bench:  ## benchmarks write into bench/results/
+	$(DX) python3 bench/run.py
+
+env:  ## provision only
+	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"

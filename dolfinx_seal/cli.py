@@ -1,0 +1,133 @@
+"""Command line interface: ``dolfinx-seal``.
+
+Sub-commands:
+
+* ``versions``           -- DOLFINx, PETSc, petsc4py, mpi4py, gmsh, ... versions.
+* ``scenes``             -- the registered scenes and what they compute.
+* ``run SCENE``          -- one point of a scene (``--scene FILE.toml``, ``--set key=value``).
+* ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``).
+
+``run`` and ``sweep`` appear once scenes are registered.  Unknown arguments
+starting with ``-`` that follow ``--petsc`` are passed to PETSc's options
+database (e.g. ``--petsc -snes_monitor``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+
+from dolfinx_seal import scenes as _scenes
+from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.mpi import print0, setup_logging
+from dolfinx_seal.output import versions
+
+
+def _cmd_versions(args: argparse.Namespace) -> int:
+    v = versions()
+    width = max(len(k) for k in v)
+    for k, val in v.items():
+        print0(f"{k:<{width}}  {val}")
+    return 0
+
+
+def _cmd_scenes(args: argparse.Namespace) -> int:
+    for name in _scenes.available():
+        print0(f"{name:<16} {_scenes.get(name).summary}")
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
+    out = args.out or f"results/{args.scene}"
+    res = _scenes.run_scene(args.scene, p, out)
+    shown = {k: v for k, v in res.items() if isinstance(v, int | float | bool)}
+    print0(json.dumps(shown, indent=1))
+    print0(f"results written to {out}/results.json")
+    return 0 if res.get("converged", True) else 1
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
+    out = args.out or f"results/{args.scene}-sweep"
+    values = _scenes.parse_values(args.values)
+    rows = _scenes.sweep_scene(args.scene, p, out, args.over, values)
+    print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
+    return 0 if len(rows) == len(values) else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (exposed for tests and documentation)."""
+    parser = argparse.ArgumentParser(prog="dolfinx-seal", description=__doc__.splitlines()[0])
+    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    sp = sub.add_parser("versions", help="print the versions of the stack")
+    sp.set_defaults(func=_cmd_versions)
+
+    if _scenes.available():
+        sp = sub.add_parser("scenes", help="list the scenes")
+        sp.set_defaults(func=_cmd_scenes)
+
+        def common(sp: argparse.ArgumentParser) -> None:
+            sp.add_argument("scene", choices=_scenes.available())
+            sp.add_argument("--scene-file", help="TOML scene file ([parameters] table or flat keys)")
+            sp.add_argument(
+                "--set", action="append", default=[], metavar="KEY=VALUE",
+                help="override a parameter (dotted keys for nested ones); repeatable",
+            )  # fmt: skip
+            sp.add_argument("--out", help="output folder (default results/SCENE[-sweep])")
+
+        sp = sub.add_parser("run", help="run one point of a scene")
+        common(sp)
+        sp.set_defaults(func=_cmd_run)
+
+        sp = sub.add_parser("sweep", help="sweep one parameter of a scene")
+        common(sp)
+        sp.add_argument("--over", required=True, help="parameter to sweep (e.g. speed)")
+        sp.add_argument(
+            "--values", required=True,
+            help="comma-separated values, or start:stop:n[:log]",
+        )  # fmt: skip
+        sp.set_defaults(func=_cmd_sweep)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``dolfinx-seal``."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    petsc_args: list[str] = []
+    if "--petsc" in argv:
+        i = argv.index("--petsc")
+        argv, petsc_args = argv[:i], argv[i + 1 :]
+    if petsc_args:
+        from petsc4py import PETSc
+
+        opts = PETSc.Options()
+        key = None
+        for a in petsc_args:
+            if a.startswith("-"):
+                if key is not None:
+                    opts[key] = ""
+                key = a.lstrip("-")
+            elif key is not None:
+                opts[key] = a
+                key = None
+        if key is not None:
+            opts[key] = ""
+    args = build_parser().parse_args(argv)
+    setup_logging("DEBUG" if args.verbose else "INFO")
+    try:
+        return int(args.func(args))
+    except ParameterError as e:
+        print(f"dolfinx-seal: parameter error: {e}", file=sys.stderr)
+        return 2
+    except SolverError as e:
+        print(f"dolfinx-seal: solver error: {e}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

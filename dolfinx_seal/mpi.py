@@ -1,0 +1,102 @@
+"""MPI helpers: rank-0 printing and logging, collective temporary directories.
+
+Imports mpi4py only (no DOLFINx), so pure-numpy modules can use it too.  When
+mpi4py is not importable everything degrades to a single process.
+"""
+
+from __future__ import annotations
+
+import logging
+import shutil
+import sys
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+try:  # mpi4py is a Debian package of the project environment
+    from mpi4py import MPI
+
+    COMM_WORLD: Any = MPI.COMM_WORLD
+except ImportError:  # pragma: no cover - only outside the project environment
+    MPI = None  # type: ignore[assignment]
+
+    class _SerialComm:
+        rank = 0
+        size = 1
+
+        def bcast(self, obj: Any, root: int = 0) -> Any:
+            return obj
+
+        def barrier(self) -> None:
+            return None
+
+        def allreduce(self, obj: Any, op: Any = None) -> Any:
+            return obj
+
+    COMM_WORLD = _SerialComm()
+
+
+def rank(comm: Any = None) -> int:
+    """Rank of this process in ``comm`` (default COMM_WORLD)."""
+    return (comm or COMM_WORLD).rank
+
+
+def print0(*args: Any, comm: Any = None, **kwargs: Any) -> None:
+    """``print`` on rank 0 only (flushes, so output interleaves sensibly with PETSc's)."""
+    if rank(comm) == 0:
+        kwargs.setdefault("flush", True)
+        print(*args, **kwargs)
+
+
+class Rank0Filter(logging.Filter):
+    """Logging filter that lets records through on rank 0 only."""
+
+    def __init__(self, comm: Any = None) -> None:
+        super().__init__()
+        self._rank = rank(comm)
+
+    def filter(self, record: logging.LogRecord) -> bool:  # noqa: D102
+        return self._rank == 0
+
+
+def get_logger(name: str = "dolfinx_seal") -> logging.Logger:
+    """The package logger.  Nothing is configured at import time; see :func:`setup_logging`."""
+    return logging.getLogger(name)
+
+
+def setup_logging(level: int | str = logging.INFO, comm: Any = None) -> None:
+    """Send package log records to stderr from rank 0 only (called by the CLI and demos)."""
+    logger = get_logger()
+    logger.setLevel(level)
+    if not any(getattr(h, "_dolfinx_seal", False) for h in logger.handlers):
+        h = logging.StreamHandler(sys.stderr)
+        h.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
+        h.addFilter(Rank0Filter(comm))
+        h._dolfinx_seal = True  # type: ignore[attr-defined]
+        logger.addHandler(h)
+
+
+def bcast_path(path: str | Path | None, comm: Any = None) -> Path:
+    """Broadcast rank 0's ``path`` to all ranks and create it (rank 0) before returning."""
+    comm = comm or COMM_WORLD
+    p = comm.bcast(str(path) if path is not None else None, root=0)
+    if comm.rank == 0 and p is not None:
+        Path(p).mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    return Path(p)
+
+
+@contextmanager
+def temporary_directory(comm: Any = None) -> Iterator[Path]:
+    """A temporary directory made on rank 0, shared by all ranks, removed at exit."""
+    comm = comm or COMM_WORLD
+    name = tempfile.mkdtemp(prefix="dolfinx_seal_") if comm.rank == 0 else None
+    path = Path(comm.bcast(name, root=0))
+    try:
+        yield path
+    finally:
+        comm.barrier()
+        if comm.rank == 0:
+            shutil.rmtree(path, ignore_errors=True)

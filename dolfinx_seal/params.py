@@ -1,0 +1,243 @@
+"""Parameters: validation helpers and the dataclass <-> dict/TOML/CLI bridge.
+
+Each concept (a material, a roughness, a scene) has one small dataclass whose
+field defaults are the single source of defaults for the Python API, TOML scene
+files and the ``--set key=value`` overrides of the CLI.  This module turns
+mappings and ``key=value`` strings into those dataclasses, rejecting unknown
+keys, and offers the range checks the dataclasses call in ``__post_init__``.
+
+All values are SI.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+import types
+import typing
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any, TypeVar
+
+from dolfinx_seal.errors import ParameterError
+
+T = TypeVar("T")
+
+
+# --------------------------------------------------------------------- checks
+def check_finite(name: str, value: float) -> float:
+    """Raise :class:`ParameterError` unless ``value`` is a finite real number."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ParameterError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def check_range(
+    name: str,
+    value: float,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+) -> float:
+    """Check ``lo <= value <= hi`` (strict where ``*_open``) and return ``float(value)``.
+
+    The error names the parameter, the value and the allowed interval, e.g.
+    ``nu = 0.6 is outside the allowed range (-1, 0.5)``.
+    """
+    v = check_finite(name, value)
+    bad = (v < lo or (lo_open and v == lo)) or (v > hi or (hi_open and v == hi))
+    if bad:
+        left = "(" if lo_open else "["
+        right = ")" if hi_open else "]"
+        u = f" {unit}" if unit else ""
+        raise ParameterError(
+            f"{name} = {value!r}{u} is outside the allowed range {left}{lo:g}, {hi:g}{right}"
+        )
+    return v
+
+
+def check_positive(name: str, value: float, unit: str = "") -> float:
+    """Check ``value > 0``."""
+    return check_range(name, value, 0.0, math.inf, lo_open=True, unit=unit)
+
+
+def check_nonnegative(name: str, value: float, unit: str = "") -> float:
+    """Check ``value >= 0``."""
+    return check_range(name, value, 0.0, math.inf, unit=unit)
+
+
+def check_choice(name: str, value: str, choices: Iterable[str]) -> str:
+    """Check that ``value`` is one of ``choices``."""
+    choices = tuple(choices)
+    if value not in choices:
+        raise ParameterError(f"{name} = {value!r} is not one of {', '.join(map(repr, choices))}")
+    return value
+
+
+def check_int_range(name: str, value: int, lo: int, hi: int | None = None) -> int:
+    """Check an integer ``lo <= value <= hi``."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or int(value) != value:
+        raise ParameterError(f"{name} must be an integer, got {value!r}")
+    v = int(value)
+    if v < lo or (hi is not None and v > hi):
+        rng = f"[{lo}, {hi}]" if hi is not None else f"[{lo}, inf)"
+        raise ParameterError(f"{name} = {value!r} is outside the allowed range {rng}")
+    return v
+
+
+# ---------------------------------------------------- dataclasses <-> mappings
+def _field_types(cls: type) -> dict[str, Any]:
+    hints = typing.get_type_hints(cls)
+    return {f.name: hints[f.name] for f in dataclasses.fields(cls) if f.init}
+
+
+def _is_dataclass_type(tp: Any) -> bool:
+    return isinstance(tp, type) and dataclasses.is_dataclass(tp)
+
+
+def _coerce(name: str, tp: Any, value: Any) -> Any:
+    """Convert ``value`` (possibly a string from the CLI) to the annotated type ``tp``."""
+    origin = typing.get_origin(tp)
+    args = typing.get_args(tp)
+    if origin in (typing.Union, types.UnionType):
+        if value is None or (isinstance(value, str) and value.lower() in ("none", "null")):
+            if type(None) in args:
+                return None
+        errors = []
+        for a in args:
+            if a is type(None):
+                continue
+            try:
+                return _coerce(name, a, value)
+            except ParameterError as e:
+                errors.append(str(e))
+        raise ParameterError(f"{name}: cannot interpret {value!r} ({'; '.join(errors)})")
+    if origin is typing.Literal:
+        v = value
+        if v not in args:
+            raise ParameterError(f"{name} = {value!r} is not one of {', '.join(map(repr, args))}")
+        return v
+    if origin in (tuple, list):
+        if isinstance(value, str):
+            value = [s for s in value.replace("(", "").replace(")", "").split(",") if s.strip()]
+        if not isinstance(value, list | tuple):
+            raise ParameterError(f"{name} must be a list, got {value!r}")
+        item = args[0] if args else Any
+        out = [_coerce(name, item, v) for v in value]
+        return tuple(out) if origin is tuple else out
+    if tp is bool:
+        if isinstance(value, bool):
+            return value
+        if isinstance(value, str) and value.lower() in ("1", "true", "yes", "on"):
+            return True
+        if isinstance(value, str) and value.lower() in ("0", "false", "no", "off"):
+            return False
+        raise ParameterError(f"{name} must be true or false, got {value!r}")
+    if tp is int:
+        try:
+            f = float(value)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} must be an integer, got {value!r}") from None
+        if f != int(f):
+            raise ParameterError(f"{name} must be an integer, got {value!r}")
+        return int(f)
+    if tp is float:
+        if isinstance(value, bool):
+            raise ParameterError(f"{name} must be a number, got {value!r}")
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} must be a number, got {value!r}") from None
+    if tp is str:
+        return str(value)
+    if tp is Path:
+        return Path(value)
+    return value
+
+
+def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "") -> T:
+    """Build dataclass ``cls`` from a (nested) mapping; unknown keys are an error.
+
+    Nested dataclass fields take nested mappings (TOML tables).
+    """
+    types_ = _field_types(cls)
+    kwargs: dict[str, Any] = {}
+    for key, value in data.items():
+        full = f"{prefix}{key}"
+        if key not in types_:
+            raise ParameterError(
+                f"unknown parameter {full!r}; allowed: {', '.join(sorted(types_))}"
+            )
+        tp = types_[key]
+        if _is_dataclass_type(tp):
+            if not isinstance(value, Mapping):
+                raise ParameterError(f"{full} must be a table of parameters, got {value!r}")
+            kwargs[key] = from_mapping(tp, value, prefix=f"{full}.")
+        else:
+            kwargs[key] = _coerce(full, tp, value)
+    return cls(**kwargs)
+
+
+def to_dict(obj: Any) -> dict[str, Any]:
+    """Nested dict of a parameter dataclass (paths as strings), for ``results.json``."""
+
+    def conv(v: Any) -> Any:
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            return {f.name: conv(getattr(v, f.name)) for f in dataclasses.fields(v)}
+        if isinstance(v, Path):
+            return str(v)
+        if isinstance(v, tuple | list):
+            return [conv(x) for x in v]
+        return v
+
+    return conv(obj)
+
+
+def parse_overrides(items: Iterable[str]) -> dict[str, Any]:
+    """Turn ``["a=1", "b.c=x"]`` into the nested mapping ``{"a": "1", "b": {"c": "x"}}``."""
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise ParameterError(f"--set expects key=value, got {item!r}")
+        key, value = item.split("=", 1)
+        parts = key.strip().split(".")
+        node = out
+        for p in parts[:-1]:
+            node = node.setdefault(p, {})
+            if not isinstance(node, dict):
+                raise ParameterError(f"--set {key}: {p!r} is not a table")
+        node[parts[-1]] = value.strip()
+    return out
+
+
+def merge(base: Mapping[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
+    """Recursive merge of two nested mappings (``over`` wins)."""
+    out = dict(base)
+    for k, v in over.items():
+        if isinstance(v, Mapping) and isinstance(out.get(k), Mapping):
+            out[k] = merge(out[k], v)
+        else:
+            out[k] = v
+    return out
+
+
+def load_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML scene file into a mapping (the optional ``scene`` key is kept)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ParameterError(f"scene file {str(p)!r} does not exist")
+    with p.open("rb") as fh:
+        return tomllib.load(fh)
+
+
+def replace(obj: T, **changes: Any) -> T:
+    """``dataclasses.replace`` that re-runs validation (``__post_init__``)."""
+    return dataclasses.replace(obj, **changes)  # type: ignore[type-var]

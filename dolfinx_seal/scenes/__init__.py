@@ -1,0 +1,213 @@
+"""Scenes: named, documented sets of physics switches and parameters.
+
+A scene module defines a parameter dataclass (its single source of defaults)
+and a :class:`Scene` object named ``SCENE``.  The registry below maps scene
+names to modules, imported lazily so that ``dolfinx-seal versions`` or a
+pure-numpy scene never imports DOLFINx.
+
+The generic drivers :func:`run_scene` and :func:`sweep_scene` write the
+results contract (``results.json``, ``sweep.csv``) for every scene.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from dolfinx_seal import params as _params
+from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.output import SweepWriter, write_results
+
+#: scene name -> module that defines ``SCENE``.
+REGISTRY: dict[str, str] = {}
+
+#: A point callback of a sweep: receives the sweep value and the results of the point.
+PointCallback = Callable[[float, Mapping[str, Any]], None]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A scene.
+
+    Attributes:
+        name: Registry name (CLI ``dolfinx-seal run NAME``).
+        summary: One line for ``dolfinx-seal scenes``.
+        parameters: Parameter dataclass; its defaults are the scene defaults.
+        run: ``run(params, out_dir) -> results`` computes one point, writes the
+            scene's fields/plots into ``out_dir`` and returns the scalar results
+            (SI; keys of the results contract plus scene-specific ones).
+        sweep: Optional ``sweep(params, out_dir, name, values, on_point) -> rows``
+            with continuation; it calls ``on_point(value, results)`` as each point
+            finishes and raises :class:`SolverError` (with ``partial`` = finished
+            rows) if it cannot go on.  Without it, points are run independently.
+        plot_sweep: Optional ``plot_sweep(rows, out_dir, name)`` drawing the sweep PNG.
+    """
+
+    name: str
+    summary: str
+    parameters: type
+    run: Callable[[Any, Path], dict[str, Any]]
+    sweep: Callable[..., list[dict[str, Any]]] | None = None
+    plot_sweep: Callable[[list[dict[str, Any]], Path, str], None] | None = None
+
+
+def available() -> list[str]:
+    """Names of the registered scenes."""
+    return sorted(REGISTRY)
+
+
+def get(name: str) -> Scene:
+    """The :class:`Scene` called ``name``."""
+    if name not in REGISTRY:
+        raise ParameterError(f"unknown scene {name!r}; available: {', '.join(available())}")
+    return importlib.import_module(REGISTRY[name]).SCENE
+
+
+def make_parameters(
+    name: str,
+    scene_file: str | Path | None = None,
+    overrides: Sequence[str] = (),
+    values: Mapping[str, Any] | None = None,
+) -> Any:
+    """Resolve a scene's parameters: defaults < TOML file < ``values`` < ``--set`` overrides."""
+    scene = get(name)
+    data: dict[str, Any] = {}
+    if scene_file is not None:
+        data = _params.load_toml(scene_file)
+        file_scene = data.pop("scene", name)
+        if file_scene != name:
+            raise ParameterError(f"scene file is for scene {file_scene!r}, not {name!r}")
+        data = dict(data.pop("parameters", data))
+    if values:
+        data = _params.merge(data, values)
+    data = _params.merge(data, _params.parse_overrides(overrides))
+    return _params.from_mapping(scene.parameters, data)
+
+
+def _scalars(results: Mapping[str, Any]) -> dict[str, Any]:
+    return {
+        k: v
+        for k, v in results.items()
+        if isinstance(v, int | float | bool | str) and k not in ("scene",)
+    }
+
+
+def run_scene(name: str, parameters: Any, out_dir: str | Path) -> dict[str, Any]:
+    """Run one point of scene ``name`` and write ``results.json`` into ``out_dir``."""
+    scene = get(name)
+    out = Path(out_dir)
+    if COMM_WORLD.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    COMM_WORLD.barrier()
+    t0 = time.perf_counter()
+    results = scene.run(parameters, out)
+    results.setdefault("wall_time_s", time.perf_counter() - t0)
+    full = {"scene": name, "parameters": _params.to_dict(parameters), **results}
+    write_results(out, full)
+    return full
+
+
+def sweep_scene(
+    name: str,
+    parameters: Any,
+    out_dir: str | Path,
+    over: str,
+    values: Sequence[float],
+) -> list[dict[str, Any]]:
+    """Sweep scene ``name`` over parameter ``over`` (dotted path allowed).
+
+    Each finished point is appended to ``sweep.csv`` at once.  A point that fails
+    is recorded in ``results.json`` (``failed_points``) and, for scenes without
+    their own continuation, the sweep goes on with the next value.  Returns the
+    finished rows.
+    """
+    scene = get(name)
+    out = Path(out_dir)
+    writer = SweepWriter(out)
+    rows: list[dict[str, Any]] = []
+    failed: list[dict[str, Any]] = []
+    log = get_logger()
+    t0 = time.perf_counter()
+
+    def on_point(value: float, results: Mapping[str, Any]) -> None:
+        row = {over: value, **_scalars(results)}
+        rows.append(row)
+        writer.append(row)
+
+    if scene.sweep is not None:
+        try:
+            scene.sweep(parameters, out, over, list(values), on_point)
+        except SolverError as e:
+            failed.append({"error": str(e), "where": e.where})
+            log.error("sweep stopped: %s", e)
+    else:
+        for v in values:
+            p = set_parameter(parameters, over, v)
+            pt0 = time.perf_counter()
+            try:
+                res = scene.run(p, out)
+            except SolverError as e:
+                failed.append({over: v, "error": str(e)})
+                log.error("sweep point %s=%g failed: %s", over, v, e)
+                continue
+            res.setdefault("wall_time_s", time.perf_counter() - pt0)
+            on_point(v, res)
+    if scene.plot_sweep is not None and rows and COMM_WORLD.rank == 0:
+        scene.plot_sweep(rows, out, over)
+    summary = {
+        "scene": name,
+        "parameters": _params.to_dict(parameters),
+        "sweep_parameter": over,
+        "sweep_values": list(values),
+        "points_finished": len(rows),
+        "failed_points": failed,
+        "wall_time_s": time.perf_counter() - t0,
+    }
+    write_results(out, summary)
+    return rows
+
+
+def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
+    """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``."""
+    head, _, rest = dotted.partition(".")
+    fields = {f.name: f for f in dataclasses.fields(parameters)}
+    if head not in fields:
+        raise ParameterError(f"unknown parameter {dotted!r}; allowed: {', '.join(sorted(fields))}")
+    if rest:
+        inner = set_parameter(getattr(parameters, head), rest, value)
+        return dataclasses.replace(parameters, **{head: inner})
+    data = _params.to_dict(parameters)
+    data[head] = value
+    return _params.from_mapping(type(parameters), data)
+
+
+
+
+def parse_values(spec: str) -> list[float]:
+    """Sweep values from ``"a,b,c"`` or a range ``"start:stop:n"`` / ``"start:stop:n:log"``."""
+    if ":" in spec:
+        parts = spec.split(":")
+        if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("log", "lin")):
+            raise ParameterError(f"--values range must be start:stop:n[:log], got {spec!r}")
+        a, b = float(parts[0]), float(parts[1])
+        n = _params.check_int_range("--values n", float(parts[2]), 1)
+        if len(parts) == 4 and parts[3] == "log":
+            if a <= 0 or b <= 0:
+                raise ParameterError(f"--values log range needs positive ends, got {spec!r}")
+            if n == 1:
+                return [a]
+            return [math.exp(math.log(a) + i * (math.log(b) - math.log(a)) / (n - 1)) for i in range(n)]
+        if n == 1:
+            return [a]
+        return [a + i * (b - a) / (n - 1) for i in range(n)]
+    try:
+        return [float(s) for s in spec.split(",") if s.strip()]
+    except ValueError:
+        raise ParameterError(f"--values must be numbers separated by commas, got {spec!r}") from None
