@@ -73,7 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
 
         def common(sp: argparse.ArgumentParser) -> None:
             sp.add_argument("scene", choices=_scenes.available())
-            sp.add_argument("--scene-file", help="TOML scene file ([parameters] table or flat keys)")
+            sp.add_argument(
+                "--scene-file", help="TOML scene file ([parameters] table or flat keys)"
+            )
             sp.add_argument(
                 "--set", action="append", default=[], metavar="KEY=VALUE",
                 help="override a parameter (dotted keys for nested ones); repeatable",

@@ -57,7 +57,7 @@ class Rank0Filter(logging.Filter):
         super().__init__()
         self._rank = rank(comm)
 
-    def filter(self, record: logging.LogRecord) -> bool:  # noqa: D102
+    def filter(self, record: logging.LogRecord) -> bool:
         return self._rank == 0
 
 

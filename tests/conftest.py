@@ -9,11 +9,15 @@
 from __future__ import annotations
 
 import gc
+import sys
 from pathlib import Path
 
 import pytest
 
 from dolfinx_seal.mpi import COMM_WORLD
+
+# demos/ are importable examples (tests run them at tiny sizes)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
 @pytest.fixture(autouse=True)

@@ -188,8 +188,6 @@ def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
     return _params.from_mapping(type(parameters), data)
 
 
-
-
 def parse_values(spec: str) -> list[float]:
     """Sweep values from ``"a,b,c"`` or a range ``"start:stop:n"`` / ``"start:stop:n:log"``."""
     if ":" in spec:
@@ -203,11 +201,15 @@ def parse_values(spec: str) -> list[float]:
                 raise ParameterError(f"--values log range needs positive ends, got {spec!r}")
             if n == 1:
                 return [a]
-            return [math.exp(math.log(a) + i * (math.log(b) - math.log(a)) / (n - 1)) for i in range(n)]
+            return [
+                math.exp(math.log(a) + i * (math.log(b) - math.log(a)) / (n - 1)) for i in range(n)
+            ]
         if n == 1:
             return [a]
         return [a + i * (b - a) / (n - 1) for i in range(n)]
     try:
         return [float(s) for s in spec.split(",") if s.strip()]
     except ValueError:
-        raise ParameterError(f"--values must be numbers separated by commas, got {spec!r}") from None
+        raise ParameterError(
+            f"--values must be numbers separated by commas, got {spec!r}"
+        ) from None

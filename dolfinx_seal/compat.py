@@ -1,0 +1,131 @@
+"""Every DOLFINx version difference, in one place, decided by feature detection.
+
+Supported: DOLFINx 0.9 (Debian 13).  Written to be ready for 0.10, which
+changes ``gmshio.model_to_mesh`` (returns a MeshData object), removes the
+``*_block`` assembly functions (replaced by ``kind="mpi"`` arguments) and makes
+``interpolation_points`` a property.  No other module may test versions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import dolfinx
+import dolfinx.fem.petsc as _fem_petsc
+import numpy as np
+from dolfinx.io import gmshio
+from petsc4py import PETSc
+
+DOLFINX_VERSION: tuple[int, ...] = tuple(int(x) for x in dolfinx.__version__.split(".")[:2])
+
+_HAS_BLOCK = hasattr(_fem_petsc, "assemble_vector_block")
+
+
+# ---------------------------------------------------------------- gmsh -> mesh
+def model_to_mesh(model: Any, comm: Any, rank: int = 0, gdim: int = 3) -> tuple[Any, Any, Any]:
+    """``(mesh, cell_tags, facet_tags)`` from a Gmsh model living on ``rank``."""
+    out = gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
+    if isinstance(out, tuple):  # 0.9
+        return out[0], out[1], out[2]
+    return out.mesh, out.cell_tags, out.facet_tags  # 0.10: MeshData
+
+
+def interpolation_points(element: Any) -> np.ndarray:
+    """Reference interpolation points of a (basix/dolfinx) element."""
+    pts = element.interpolation_points
+    return pts() if callable(pts) else pts
+
+
+# ------------------------------------------------------------ block assembly
+def create_vector_block(L: Sequence[Any]) -> PETSc.Vec:
+    """Monolithic (non-nested) PETSc vector for a list of linear forms."""
+    if _HAS_BLOCK:
+        return _fem_petsc.create_vector_block(list(L))
+    return _fem_petsc.create_vector(list(L), kind="mpi")  # pragma: no cover - 0.10
+
+
+def create_matrix_block(a: Sequence[Sequence[Any]]) -> PETSc.Mat:
+    """Monolithic PETSc matrix for a block of bilinear forms."""
+    if _HAS_BLOCK:
+        return _fem_petsc.create_matrix_block([list(r) for r in a])
+    return _fem_petsc.create_matrix([list(r) for r in a], kind="mpi")  # pragma: no cover
+
+
+def assemble_residual_block(
+    b: PETSc.Vec, L: Sequence[Any], a: Sequence[Sequence[Any]], bcs: Sequence[Any], x: PETSc.Vec
+) -> None:
+    """Assemble the block residual into ``b`` with Dirichlet rows set to ``x - g`` scaled by -1.
+
+    Matches the single-field convention of ``NonlinearProblem.F`` in DOLFINx 0.9:
+    lifting with ``alpha=-1`` and ``x0=x`` so that bc rows hold ``g - x``... times -1.
+    """
+    with b.localForm() as bl:
+        bl.set(0.0)
+    if _HAS_BLOCK:
+        _fem_petsc.assemble_vector_block(
+            b, list(L), [list(r) for r in a], bcs=list(bcs), x0=x, alpha=-1.0
+        )
+        return
+    raise NotImplementedError("block assembly for DOLFINx >= 0.10")  # pragma: no cover
+
+
+def assemble_jacobian_block(A: PETSc.Mat, a: Sequence[Sequence[Any]], bcs: Sequence[Any]) -> None:
+    """Assemble a block Jacobian into ``A`` (zeroed first, diagonal 1 on bc rows)."""
+    A.zeroEntries()
+    if _HAS_BLOCK:
+        _fem_petsc.assemble_matrix_block(A, [list(r) for r in a], bcs=list(bcs))
+    else:  # pragma: no cover - 0.10
+        _fem_petsc.assemble_matrix(A, [list(r) for r in a], bcs=list(bcs))
+    A.assemble()
+
+
+def block_maps(spaces: Sequence[Any]) -> list[tuple[Any, int]]:
+    """(index_map, block size) of each space, the layout of a block vector."""
+    return [(V.dofmap.index_map, V.dofmap.index_map_bs) for V in spaces]
+
+
+def block_to_functions(x: PETSc.Vec, functions: Sequence[Any]) -> None:
+    """Copy a block vector into the functions (owned and ghost values)."""
+    maps = block_maps([u.function_space for u in functions])
+    if _HAS_BLOCK:
+        from dolfinx.cpp.la.petsc import get_local_vectors
+
+        for u, xl in zip(functions, get_local_vectors(x, maps), strict=True):
+            u.x.array[:] = xl
+    else:  # pragma: no cover - 0.10
+        _fem_petsc.assign(x, list(functions))
+    for u in functions:
+        u.x.scatter_forward()
+
+
+def functions_to_block(functions: Sequence[Any], x: PETSc.Vec) -> None:
+    """Copy the functions' owned values into a block vector."""
+    maps = block_maps([u.function_space for u in functions])
+    if _HAS_BLOCK:
+        from dolfinx.cpp.la.petsc import scatter_local_vectors
+
+        scatter_local_vectors(x, [u.x.array for u in functions], maps)
+    else:  # pragma: no cover - 0.10
+        _fem_petsc.assign(list(functions), x)
+    x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+
+
+# ------------------------------------------------------------- interpolation
+def interpolate_nonmatching(u_to: Any, u_from: Any, padding: float = 1e-8) -> None:
+    """Interpolate ``u_from`` (another mesh) into ``u_to``.
+
+    ``padding`` (in mesh length units) must exceed the chord sag of curved
+    boundaries; points found in no cell are set to zero by DOLFINx, so callers
+    must check coverage (see :func:`dolfinx_seal.solvers.continuation.transfer`).
+    """
+    V_to = u_to.function_space
+    mesh = V_to.mesh
+    tdim = mesh.topology.dim
+    cmap = mesh.topology.index_map(tdim)
+    cells = np.arange(cmap.size_local + cmap.num_ghosts, dtype=np.int32)
+    data = dolfinx.fem.create_interpolation_data(
+        V_to, u_from.function_space, cells, padding=padding
+    )
+    u_to.interpolate_nonmatching(u_from, cells, data)
+    u_to.x.scatter_forward()
