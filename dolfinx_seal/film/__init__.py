@@ -1,0 +1,1 @@
+"""Thin-film lubrication: Reynolds fluxes and residuals, cavitation models."""

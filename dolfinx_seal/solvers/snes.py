@@ -1,0 +1,596 @@
+"""The one PETSc SNES wrapper of dolfinx_seal.
+
+:class:`NonlinearSolver` owns a SNES for a residual given as UFL form(s):
+
+* single field (one :class:`dolfinx.fem.Function`, possibly in a mixed space) or
+  blocked (lists of forms and functions, e.g. a field plus a scifem real-space
+  unknown), with Dirichlet conditions;
+* optional lower/upper bounds per dof, which turn the problem into a
+  variational inequality (VI) solved by ``vinewtonrsls``/``vinewtonssls``:
+  find ``l <= x <= u`` with ``F_i >= 0`` where ``x_i = l_i``, ``F_i <= 0`` where
+  ``x_i = u_i`` and ``F_i = 0`` in between;
+* a unique options prefix per instance; PETSc command-line options given with
+  that prefix override the defaults set here;
+* rank-0 monitors and an explicit check of the converged reason: a failed solve
+  raises :class:`~dolfinx_seal.errors.SolverError` carrying the iteration history;
+* its own complementarity check after a VI solve, since a VI solver may report
+  convergence on a zero step;
+* a penalty warm start for VIs (:meth:`NonlinearSolver.solve_penalty`): the
+  bounds are first enforced by a dof-wise penalty ``kappa_i min(x_i - l_i, 0)``
+  with ``kappa_i`` a multiple of the Jacobian diagonal, stepped up by decades
+  with a semi-smooth Newton, after which the exact VI needs a few steps.
+
+Defaults (DESIGN.md section 5): the ``basic`` line search (``bt`` fails
+spuriously with the VI solvers because the active set changes as the step
+shrinks) with an optional pre-check that limits the step; a direct LU solve
+with MUMPS.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import dolfinx
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import ufl
+from petsc4py import PETSc
+
+from dolfinx_seal import compat
+from dolfinx_seal.errors import ParameterError, SolveHistory, SolverError
+from dolfinx_seal.mpi import print0
+from dolfinx_seal.params import check_choice, check_int_range, check_positive
+
+_counter = itertools.count()
+
+_VI_TYPES = ("vinewtonrsls", "vinewtonssls")
+
+
+@dataclass
+class SNESOptions:
+    """Options of :class:`NonlinearSolver` (the single source of their defaults).
+
+    Attributes:
+        snes_type: ``newtonls`` for equations; for problems with bounds the VI
+            types ``vinewtonrsls`` (reduced space, default) or ``vinewtonssls``.
+        line_search: SNES line search (``basic`` is the safe choice with VIs).
+        rtol: Relative residual tolerance, relative both to the first residual of a
+            solve and to the forcing scale ``|F(0)|`` (see
+            :meth:`NonlinearSolver.residual_scale`), so warm starts stop at the
+            same accuracy as cold ones.
+        atol: Absolute residual tolerance floor (in the scaled units of the residual).
+        stol: Step tolerance ``|dx| < stol |x|``: a step at round-off level ends the
+            solve (ill-conditioned problems stall there above ``rtol``).  For a VI a
+            zero step can hide a wrong active set, which the complementarity check
+            after the solve catches.
+        max_it: Maximum Newton steps.
+        ksp_type: Krylov solver (``preonly`` for a direct solve).
+        pc_type: Preconditioner (``lu`` for a direct solve).
+        factor_solver: Direct solver package (``mumps``, ``superlu_dist``, ``petsc``).
+        floor_rtol: Round-off allowance, relative to the forcing scale ``|F(0)|``: a
+            solve that stagnates (step below ``stol``) is accepted only if its
+            residual is below ``floor_rtol |F(0)|``, and a VI solution only if its
+            natural residual ``|x - P(x - F)|`` is below
+            ``max(atol, rtol |F(0)|, floor_rtol |F(0)|)``.
+        monitor: Print the residual at every Newton step (rank 0).
+        error_on_failure: Raise :class:`SolverError` when SNES does not converge.
+    """
+
+    snes_type: str = "newtonls"
+    line_search: str = "basic"
+    rtol: float = 1e-9
+    atol: float = 1e-12
+    stol: float = 1e-12
+    max_it: int = 50
+    ksp_type: str = "preonly"
+    pc_type: str = "lu"
+    factor_solver: str = "mumps"
+    floor_rtol: float = 1e-6
+    monitor: bool = False
+    error_on_failure: bool = True
+
+    def __post_init__(self) -> None:
+        check_choice("snes_type", self.snes_type, ("newtonls", *_VI_TYPES))
+        check_choice("line_search", self.line_search, ("basic", "bt", "l2", "cp", "nleqerr"))
+        check_positive("rtol", self.rtol)
+        check_positive("atol", self.atol)
+        check_int_range("max_it", self.max_it, 1)
+        check_positive("floor_rtol", self.floor_rtol)
+
+
+def bounds_function(V: Any, value: float, sub: int | None = None) -> dolfinx.fem.Function:
+    """A bound for :class:`NonlinearSolver`: ``value`` on the dofs of sub-space ``sub``.
+
+    All dofs get ``value`` when ``sub`` is None.  Otherwise the other dofs get
+    ``nan``, meaning "unbounded", which the solver turns into ``-inf`` (lower
+    bound) or ``+inf`` (upper bound).  Example: ``bounds_function(W, 0.0, sub=1)``
+    for ``p >= 0`` on the second field of a mixed space.
+    """
+    f = dolfinx.fem.Function(V)
+    if sub is None:
+        f.x.array[:] = value
+    else:
+        f.x.array[:] = np.nan
+        _, dofs = V.sub(sub).collapse()
+        f.x.array[np.asarray(dofs)] = value
+    return f
+
+
+class NonlinearSolver:
+    """A PETSc SNES for ``F(u; v) = 0`` (or the VI with bounds) from UFL forms.
+
+    Args:
+        F: Residual form, or a list of residual forms (blocked problem).
+        u: Unknown function, or a list of functions (one per block).
+        bcs: Dirichlet conditions.
+        J: Jacobian form(s); default ``ufl.derivative`` of ``F`` (the whole residual).
+        lower: Lower bound(s): a Function (``nan`` = unbounded), a float, or None;
+            for a blocked problem a list with one entry per block.
+        upper: Upper bound(s), as ``lower``.
+        options: :class:`SNESOptions`.
+        prefix: PETSc options prefix (default unique ``dxs<N>_``); command-line
+            options with this prefix override the defaults.
+        name: Name used in messages and errors.
+        step_limiter: Optional ``f(x, dx) -> s`` with ``0 < s <= 1`` on owned arrays:
+            the Newton step is scaled by the global minimum of ``s`` (pre-check).
+        petsc_options: Extra PETSc options (without prefix) for this instance.
+        form_compiler_options, jit_options: Passed to :func:`dolfinx.fem.form`.
+    """
+
+    def __init__(
+        self,
+        F: ufl.Form | Sequence[ufl.Form],
+        u: dolfinx.fem.Function | Sequence[dolfinx.fem.Function],
+        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
+        J: Any = None,
+        lower: Any = None,
+        upper: Any = None,
+        options: SNESOptions | None = None,
+        prefix: str | None = None,
+        name: str = "problem",
+        step_limiter: Callable[[np.ndarray, np.ndarray], float] | None = None,
+        petsc_options: dict[str, Any] | None = None,
+        form_compiler_options: dict | None = None,
+        jit_options: dict | None = None,
+    ) -> None:
+        self.blocked = isinstance(F, list | tuple)
+        self.name = name
+        self.options = options or SNESOptions()
+        self.prefix = prefix or f"dxs{next(_counter)}_"
+        self.bcs = list(bcs)
+        self.step_limiter = step_limiter
+        self.history = SolveHistory()
+        self.total_newton_iterations = 0
+        self._penalty = 0.0
+        fopts = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
+
+        if self.blocked:
+            if not isinstance(u, list | tuple) or len(u) != len(F):
+                raise ParameterError("a blocked residual needs one unknown function per block")
+            self.u = list(u)
+            if J is None:
+                J = [
+                    [ufl.derivative(Fi, uj, ufl.TrialFunction(uj.function_space)) for uj in self.u]
+                    for Fi in F
+                ]
+                J = [[None if _is_zero(a) else a for a in row] for row in J]
+            self._L = [dolfinx.fem.form(Fi, **fopts) for Fi in F]
+            self._a = [
+                [None if a is None else dolfinx.fem.form(a, **fopts) for a in row] for row in J
+            ]
+            self.b = compat.create_vector_block(self._L)
+            self.A = compat.create_matrix_block(self._a)
+            self.x = self.b.duplicate()
+            self.comm = self.u[0].function_space.mesh.comm
+        else:
+            self.u = u
+            if J is None:
+                J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space))
+            self._L = dolfinx.fem.form(F, **fopts)
+            self._a = dolfinx.fem.form(J, **fopts)
+            self.b = fem_petsc.create_vector(self._L)
+            self.A = fem_petsc.create_matrix(self._a)
+            self.x = self.b.duplicate()
+            self.comm = u.function_space.mesh.comm
+
+        self.has_bounds = lower is not None or upper is not None
+        self.xl = self.xu = None
+        if self.has_bounds:
+            self.xl = self._bound_vector(lower, PETSc.NINFINITY)
+            self.xu = self._bound_vector(upper, PETSc.INFINITY)
+            if self.options.snes_type not in _VI_TYPES:
+                self.options = _replace(self.options, snes_type="vinewtonrsls")
+        self._diag = self.b.duplicate()
+        self._extra_options = dict(petsc_options or {})
+        self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
+        self._snes_penalty: PETSc.SNES | None = None
+        self._residual_scale: float | None = None
+
+    # ---------------------------------------------------------------- set-up
+    def _bound_vector(self, spec: Any, fill: float) -> PETSc.Vec:
+        v = self.b.duplicate()
+        v.set(fill)
+        if spec is None:
+            return v
+        if self.blocked:
+            specs = list(spec) if isinstance(spec, list | tuple) else [spec] * len(self.u)
+            funcs = []
+            for s, ui in zip(specs, self.u, strict=True):
+                f = dolfinx.fem.Function(ui.function_space)
+                f.x.array[:] = fill if s is None else (s if np.isscalar(s) else 0.0)
+                if s is not None and not np.isscalar(s):
+                    f.x.array[:] = s.x.array
+                funcs.append(f)
+            for f in funcs:
+                f.x.array[np.isnan(f.x.array)] = fill
+            compat.functions_to_block(funcs, v)
+        else:
+            arr = v.getArray(readonly=False)
+            n = arr.shape[0]
+            if np.isscalar(spec):
+                arr[:] = spec
+            else:
+                vals = spec.x.array[:n].copy()
+                vals[np.isnan(vals)] = fill
+                arr[:] = vals
+            del arr
+        return v
+
+    def _make_snes(self, o: SNESOptions, prefix: str, bounded: bool) -> PETSc.SNES:
+        snes = PETSc.SNES().create(self.comm)
+        snes.setOptionsPrefix(prefix)
+        opts = PETSc.Options()
+        defaults = {
+            "snes_type": o.snes_type,
+            "snes_linesearch_type": o.line_search,
+            "snes_rtol": o.rtol,
+            "snes_atol": o.atol,
+            "snes_stol": o.stol,
+            "snes_max_it": o.max_it,
+            "ksp_type": o.ksp_type,
+            "pc_type": o.pc_type,
+        }
+        if o.pc_type in ("lu", "cholesky"):
+            defaults["pc_factor_mat_solver_type"] = o.factor_solver
+        defaults.update(self._extra_options)
+        for k, v in defaults.items():
+            if not opts.hasName(prefix + k):  # the command line wins
+                opts[prefix + k] = v
+        snes.setFunction(self._residual, self.b)
+        snes.setJacobian(self._jacobian, self.A)
+        if bounded:
+            snes.setVariableBounds(self.xl, self.xu)
+        snes.setMonitor(self._monitor)
+        if self.step_limiter is not None:
+            snes.setLineSearchPreCheck(self._precheck)
+        snes.setFromOptions()
+        snes.getKSP().setFromOptions()
+        # after setFromOptions: setting the VI type installs PETSc's own test
+        snes.setConvergenceTest(self._converged)
+        return snes
+
+    # ------------------------------------------------------------- callbacks
+    def _to_functions(self, x: PETSc.Vec) -> None:
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        if self.blocked:
+            compat.block_to_functions(x, self.u)
+        else:
+            x.copy(self.u.x.petsc_vec)
+            self.u.x.scatter_forward()
+
+    def _from_functions(self, x: PETSc.Vec) -> None:
+        if self.blocked:
+            compat.functions_to_block(self.u, x)
+        else:
+            self.u.x.petsc_vec.copy(x)
+
+    def _residual(self, snes: PETSc.SNES, x: PETSc.Vec, b: PETSc.Vec) -> None:
+        self._to_functions(x)
+        if self.blocked:
+            compat.assemble_residual_block(b, self._L, self._a, self.bcs, x)
+        else:
+            with b.localForm() as bl:
+                bl.set(0.0)
+            fem_petsc.assemble_vector(b, self._L)
+            fem_petsc.apply_lifting(b, [self._a], bcs=[self.bcs], x0=[x], alpha=-1.0)
+            b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            fem_petsc.set_bc(b, self.bcs, x, -1.0)
+        if self._penalty > 0.0:
+            self._add_penalty_residual(x, b)
+
+    def _jacobian(self, snes: PETSc.SNES, x: PETSc.Vec, A: PETSc.Mat, P: PETSc.Mat) -> None:
+        self._to_functions(x)
+        if self.blocked:
+            compat.assemble_jacobian_block(A, self._a, self.bcs)
+        else:
+            A.zeroEntries()
+            fem_petsc.assemble_matrix(A, self._a, bcs=self.bcs)
+            A.assemble()
+        if self._penalty > 0.0:
+            self._add_penalty_jacobian(x, A)
+
+    def _monitor(self, snes: PETSc.SNES, it: int, fnorm: float) -> None:
+        self.history.residual_norms.append(float(fnorm))
+        if it > 0:
+            self.history.linear_iterations.append(snes.getKSP().getIterationNumber())
+        if self.options.monitor:
+            print0(f"  {self.name} [{self.prefix}] Newton {it:3d}  |F| = {fnorm:.6e}")
+
+    def _converged(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
+        """Convergence test with mesh-independent step criterion.
+
+        Residual: ``|F| < atol_eff`` or ``|F| < rtol |F_first|`` (2-norms).  Step:
+        ``max|dx| <= stol max|x|`` (infinity norms, which do not grow with the
+        number of dofs, unlike the 2-norm round-off floor of the residual), and
+        only if ``|F|`` is within the round-off allowance ``floor_rtol |F(0)|``.
+        """
+        _xnorm, _ynorm, fnorm = norms
+        R = PETSc.SNES.ConvergedReason
+        if not np.isfinite(fnorm):
+            return R.DIVERGED_FNORM_NAN
+        if it == 0:
+            self._fnorm0 = fnorm
+            return R.CONVERGED_FNORM_ABS if fnorm <= self._atol_eff else R.ITERATING
+        if fnorm <= self._atol_eff:
+            return R.CONVERGED_FNORM_ABS
+        if fnorm <= self.options.rtol * self._fnorm0:
+            return R.CONVERGED_FNORM_RELATIVE
+        if self.options.stol > 0:
+            dx = snes.getSolutionUpdate().norm(PETSc.NormType.NORM_INFINITY)
+            x = snes.getSolution().norm(PETSc.NormType.NORM_INFINITY)
+            if dx <= self.options.stol * max(x, 1e-300) and fnorm <= self._floor:
+                return R.CONVERGED_SNORM_RELATIVE
+        if it >= snes.getTolerances()[3]:
+            return R.DIVERGED_MAX_IT
+        dtol = snes.getDivergenceTolerance()
+        if dtol > 0 and fnorm > dtol * self._fnorm0:
+            return R.DIVERGED_DTOL
+        return R.ITERATING
+
+    def _precheck(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        s = float(self.step_limiter(x.getArray(readonly=True), y.getArray(readonly=True)))
+        s = self.comm.allreduce(min(max(s, 1e-12), 1.0), op=_mpi_min())
+        if s < 1.0:
+            y.scale(s)
+
+    # ---------------------------------------------------------------- penalty
+    def _active_violation(self, x: PETSc.Vec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        xa = x.getArray(readonly=True)
+        lo = self.xl.getArray(readonly=True)
+        hi = self.xu.getArray(readonly=True)
+        below = np.minimum(xa - lo, 0.0)
+        above = np.maximum(xa - hi, 0.0)
+        below[~np.isfinite(below)] = 0.0
+        above[~np.isfinite(above)] = 0.0
+        return below, above, xa
+
+    def _add_penalty_residual(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
+        below, above, _ = self._active_violation(x)
+        k = self._kappa
+        arr = b.getArray(readonly=False)
+        arr += k * (below + above)
+        del arr
+
+    def _add_penalty_jacobian(self, x: PETSc.Vec, A: PETSc.Mat) -> None:
+        below, above, _ = self._active_violation(x)
+        d = self._diag
+        d.setArray(self._kappa * ((below < 0) | (above > 0)))
+        A.setDiagonal(d, addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+
+    # ------------------------------------------------------------------ solve
+    def solve(self, where: str = "") -> SolveHistory:
+        """Solve from the current value of the unknown(s); return the history.
+
+        Raises:
+            SolverError: SNES diverged, or it reported convergence but the
+                complementarity check failed (VI).
+        """
+        return self._solve(self._snes, where)
+
+    def residual_scale(self) -> float:
+        """Norm of the residual at zero unknowns, ``|F(0)|``: the scale of the forcing.
+
+        Tolerances are relative to it (``atol_eff = max(atol, rtol |F(0)|)``), so a
+        warm start that is already converged takes zero steps and a nested or
+        continued solve stops at the same accuracy as a cold one.
+        """
+        if self._residual_scale is None:
+            self._from_functions(self.x)
+            saved = self.x.copy()
+            zero = self.x.duplicate()
+            zero.set(0.0)
+            self._residual(self._snes, zero, self.b)
+            scale = self.b.norm()
+            self._to_functions(saved)
+            self.x.array[:] = saved.array
+            saved.destroy()
+            zero.destroy()
+            self._residual_scale = scale if scale > 0 and np.isfinite(scale) else 1.0
+        return self._residual_scale
+
+    def _solve(self, snes: PETSc.SNES, where: str) -> SolveHistory:
+        self.history = SolveHistory()
+        self._atol_eff = max(self.options.atol, self.options.rtol * self.residual_scale())
+        self._floor = max(self._atol_eff, self.options.floor_rtol * self.residual_scale())
+        self._fnorm0 = 0.0
+        self._from_functions(self.x)
+        if self.has_bounds and self._penalty == 0.0:
+            # project the start onto the bounds: VI solvers require a feasible start
+            arr = self.x.getArray(readonly=False)
+            np.clip(arr, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True), out=arr)
+            del arr
+        t0 = time.perf_counter()
+        snes.solve(None, self.x)
+        self.wall_time = time.perf_counter() - t0
+        self._to_functions(self.x)
+        reason = snes.getConvergedReason()
+        self.history.reason = int(reason)
+        self.history.reason_name = _reason_name(reason)
+        its = snes.getIterationNumber()
+        self.total_newton_iterations += its
+        where = where or self.name
+        if reason <= 0:
+            if self.options.error_on_failure:
+                raise SolverError(
+                    f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}) {self.history.reason_name} "
+                    f"after {its} Newton steps",
+                    where=where,
+                    history=self.history,
+                )
+            return self.history
+        if self.has_bounds and self._penalty == 0.0:
+            self.history.complementarity = self.complementarity()
+            tol = self._floor
+            if not np.isfinite(self.history.complementarity) or self.history.complementarity > tol:
+                raise SolverError(
+                    f"SNES '{self.prefix}' reported {self.history.reason_name} but the "
+                    f"complementarity residual is {self.history.complementarity:.3e} > {tol:.3e}",
+                    where=where,
+                    history=self.history,
+                )
+        return self.history
+
+    def solve_penalty(
+        self,
+        kappas: Sequence[float] = (1e0, 1e2, 1e4, 1e6, 1e8),
+        weights: PETSc.Vec | None = None,
+        where: str = "",
+    ) -> list[SolveHistory]:
+        """Penalty-continuation warm start, then the exact VI.
+
+        For each ``k`` in ``kappas`` the bounds are enforced by the penalty
+        ``k w_i (min(x_i - l_i, 0) + max(x_i - u_i, 0))`` added to the residual,
+        solved by a semi-smooth Newton (``newtonls``, no bounds); the last
+        solution starts the exact VI.  ``w_i`` defaults to the lumped mass
+        ``int phi_i dx`` of the unknown's space, so ``k`` is the coefficient of
+        the continuous penalty ``int k min(x, 0) v dx`` and its effect does not
+        change with the mesh.  Returns the histories of all passes (the last one
+        is the VI).
+        """
+        if not self.has_bounds:
+            raise ParameterError("solve_penalty needs a problem with bounds")
+        if self._snes_penalty is None:
+            pen = _replace(self.options, snes_type="newtonls")
+            self._snes_penalty = self._make_snes(pen, self.prefix + "penalty_", bounded=False)
+            self._snes_penalty.setDivergenceTolerance(1e300)  # raising kappa raises |F| at first
+        w = self._lumped_mass() if weights is None else weights.getArray(readonly=True).copy()
+        hist = []
+        try:
+            for k in kappas:
+                self._kappa = k * w
+                self._penalty = k
+                hist.append(self._solve(self._snes_penalty, f"{where or self.name}: penalty {k:g}"))
+        finally:
+            self._penalty = 0.0
+        hist.append(self.solve(where=f"{where or self.name}: exact VI"))
+        return hist
+
+    def _lumped_mass(self) -> np.ndarray:
+        """Owned values of ``int sum_c v_c dx`` for the test functions of the unknown(s)."""
+        us = self.u if self.blocked else [self.u]
+        forms = []
+        for ui in us:
+            V = ui.function_space
+            v = ufl.TestFunction(V)
+            vs = sum(v[i] for i in range(v.ufl_shape[0])) if v.ufl_shape else v
+            forms.append(dolfinx.fem.form(vs * ufl.dx(domain=V.mesh)))
+        vec = self.b.duplicate()
+        if self.blocked:
+            funcs = []
+            for f, ui in zip(forms, us, strict=True):
+                m = dolfinx.fem.Function(ui.function_space)
+                dolfinx.fem.petsc.assemble_vector(m.x.petsc_vec, f)
+                m.x.petsc_vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+                funcs.append(m)
+            compat.functions_to_block(funcs, vec)
+        else:
+            fem_petsc.assemble_vector(vec, forms[0])
+            vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        out = np.abs(vec.getArray(readonly=True)).copy()
+        vec.destroy()
+        return out
+
+    # ------------------------------------------------------------ diagnostics
+    def residual(self) -> PETSc.Vec:
+        """The residual vector at the current unknowns (a copy)."""
+        self._from_functions(self.x)
+        self._residual(self._snes, self.x, self.b)
+        return self.b.copy()
+
+    def complementarity(self) -> float:
+        """2-norm of the natural residual ``x - clip(x - F(x), lower, upper)``.
+
+        Zero exactly at a solution of the VI; it catches both a false
+        "converged" on a zero step and wrong-signed multipliers on the active set.
+        """
+        F = self.residual()
+        xa = self.x.getArray(readonly=True)
+        r = xa - np.clip(
+            xa - F.getArray(readonly=True),
+            self.xl.getArray(readonly=True),
+            self.xu.getArray(readonly=True),
+        )
+        return float(np.sqrt(self.comm.allreduce(float(r @ r))))
+
+    @property
+    def snes(self) -> PETSc.SNES:
+        """The underlying PETSc SNES."""
+        return self._snes
+
+    def destroy(self) -> None:
+        """Free the PETSc objects (collective)."""
+        for obj in (
+            self._snes,
+            self._snes_penalty,
+            self.A,
+            self.b,
+            self.x,
+            self._diag,
+            self.xl,
+            self.xu,
+        ):
+            if obj is not None:
+                obj.destroy()
+
+
+# ------------------------------------------------------------------ helpers
+def _is_zero(form: Any) -> bool:
+    from ufl.algorithms import expand_derivatives
+
+    try:
+        return expand_derivatives(form).empty()
+    except Exception:
+        return False
+
+
+def _replace(o: SNESOptions, **kw: Any) -> SNESOptions:
+    from dataclasses import replace
+
+    return replace(o, **kw)
+
+
+def _mpi_min() -> Any:
+    from mpi4py import MPI
+
+    return MPI.MIN
+
+
+def _mpi_max() -> Any:
+    from mpi4py import MPI
+
+    return MPI.MAX
+
+
+def _reason_name(reason: int) -> str:
+    for k, v in vars(PETSc.SNES.ConvergedReason).items():
+        if not k.startswith("_") and v == reason:
+            return k
+    return str(reason)
+
+
+__all__ = ["NonlinearSolver", "SNESOptions", "bounds_function"]

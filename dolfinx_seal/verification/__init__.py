@@ -1,0 +1,1 @@
+"""Independent reference solutions (numpy/scipy only, written apart from the FEM code)."""

@@ -1,0 +1,197 @@
+"""The SNES wrapper: single field, blocked (with a global real unknown), VI bounds,
+failure reporting, complementarity check, options pass-through, 1 vs 2 ranks."""
+
+from __future__ import annotations
+
+import dolfinx
+import numpy as np
+import pytest
+import scifem
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from dolfinx_seal.errors import SolverError
+from dolfinx_seal.solvers import NonlinearSolver, SNESOptions, bounds_function
+
+
+def _nonlinear_poisson(comm, n=32, **kw):
+    """-div((1 + u^2) grad u) = f on the unit square, manufactured u = x(1-x) y(1-y) * 4."""
+    mesh = dolfinx.mesh.create_unit_square(comm, n, n)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2))
+    x = ufl.SpatialCoordinate(mesh)
+    ue = 4 * x[0] * (1 - x[0]) * x[1] * (1 - x[1])
+    f = -ufl.div((1 + ue**2) * ufl.grad(ue))
+    u = dolfinx.fem.Function(V)
+    v = ufl.TestFunction(V)
+    F = ufl.inner((1 + u**2) * ufl.grad(u), ufl.grad(v)) * ufl.dx - f * v * ufl.dx
+    mesh.topology.create_connectivity(1, 2)
+    dofs = dolfinx.fem.locate_dofs_topological(
+        V, 1, dolfinx.mesh.exterior_facet_indices(mesh.topology)
+    )
+    bc = dolfinx.fem.dirichletbc(0.0, dofs, V)
+    return NonlinearSolver(F, u, [bc], **kw), u, ue
+
+
+def test_newton_quadratic_convergence_and_accuracy():
+    solver, u, ue = _nonlinear_poisson(MPI.COMM_WORLD)
+    h = solver.solve()
+    r = h.residual_norms
+    assert h.reason > 0 and 3 <= h.newton_iterations <= 8
+    # quadratic convergence: once in the asymptotic range, r_{k+1} <= C r_k^2
+    rates = [
+        np.log(r[k + 1]) / np.log(r[k])
+        for k in range(1, len(r) - 1)
+        if r[k] < 1e-2 and r[k + 1] > 1e-14
+    ]
+    assert all(q > 1.6 for q in rates), rates
+    err = np.sqrt(
+        MPI.COMM_WORLD.allreduce(
+            dolfinx.fem.assemble_scalar(dolfinx.fem.form((u - ue) ** 2 * ufl.dx)), MPI.SUM
+        )
+    )
+    assert err < 1e-5  # P2 on 32x32: O(h^3) ~ 3e-5 * const; observed 2e-7
+    solver.destroy()
+
+
+def test_failure_raises_typed_error_with_history():
+    solver, _, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8, options=SNESOptions(max_it=1))
+    with pytest.raises(SolverError) as info:
+        solver.solve(where="unit test")
+    e = info.value
+    assert "DIVERGED_MAX_IT" in e.what and e.where == "unit test"
+    assert len(e.history.residual_norms) == 2 and "last residual norms" in str(e)
+    solver.destroy()
+
+
+def test_command_line_options_override_defaults():
+    PETSc.Options()["cliprefix_snes_max_it"] = 1
+    try:
+        solver, _, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8, prefix="cliprefix_")
+        with pytest.raises(SolverError, match="DIVERGED_MAX_IT after 1"):
+            solver.solve()
+        solver.destroy()
+    finally:
+        PETSc.Options().delValue("cliprefix_snes_max_it")
+
+
+def test_blocked_problem_with_real_unknown():
+    """Pure-Neumann Poisson with a global Lagrange multiplier fixing the mean (blocked).
+
+    -u'' = pi^2 cos(pi x) on (0, 1), u'(0) = u'(1) = 0, int u = 0  ->  u = cos(pi x).
+    """
+    comm = MPI.COMM_WORLD
+    mesh = dolfinx.mesh.create_unit_interval(comm, 200)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2))
+    R = scifem.create_real_functionspace(mesh)
+    u, lam = dolfinx.fem.Function(V), dolfinx.fem.Function(R)
+    v, mu = ufl.TestFunction(V), ufl.TestFunction(R)
+    x = ufl.SpatialCoordinate(mesh)[0]
+    f = np.pi**2 * ufl.cos(np.pi * x)
+    F0 = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx + lam * v * ufl.dx - f * v * ufl.dx
+    F1 = u * mu * ufl.dx
+    solver = NonlinearSolver([F0, F1], [u, lam])
+    h = solver.solve()
+    assert h.newton_iterations == 1  # linear problem
+    err = np.sqrt(
+        comm.allreduce(
+            dolfinx.fem.assemble_scalar(dolfinx.fem.form((u - ufl.cos(np.pi * x)) ** 2 * ufl.dx)),
+            MPI.SUM,
+        )
+    )
+    assert err < 1e-7  # P2, h = 5e-3: O(h^3) ~ 1e-7 * pi^3 / 12...
+    assert abs(comm.allreduce(float(lam.x.array[0]) if lam.x.array.size else 0.0, MPI.MAX)) < 1e-8
+    solver.destroy()
+
+
+def _string_on_obstacle(comm, n=200, **kw):
+    """-u'' = 0 on (-1, 1), u(+-1) = 0, u >= 1/2 - x^2: contact on |x| <= 1 - sqrt(1/2)."""
+    mesh = dolfinx.mesh.create_interval(comm, n, [-1.0, 1.0])
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+    u = dolfinx.fem.Function(V)
+    v = ufl.TestFunction(V)
+    F = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx
+    dofs = dolfinx.fem.locate_dofs_geometrical(V, lambda x: np.isclose(np.abs(x[0]), 1.0))
+    bc = dolfinx.fem.dirichletbc(0.0, dofs, V)
+    psi = dolfinx.fem.Function(V)
+    psi.interpolate(lambda x: 0.5 - x[0] ** 2)
+    return NonlinearSolver(F, u, [bc], lower=psi, **kw), u
+
+
+def _string_exact(x):
+    a = 1.0 - np.sqrt(0.5)
+    return np.where(np.abs(x) <= a, 0.5 - x**2, (0.5 - a**2) * (1 - np.abs(x)) / (1 - a))
+
+
+def test_vi_obstacle_1d_exact():
+    solver, u = _string_on_obstacle(MPI.COMM_WORLD)
+    h = solver.solve()
+    assert h.complementarity <= 1e-9
+    V = u.function_space
+    n = V.dofmap.index_map.size_local
+    x = V.tabulate_dof_coordinates()[:n, 0]
+    err = MPI.COMM_WORLD.allreduce(
+        float(np.abs(u.x.array[:n] - _string_exact(x)).max(initial=0)), MPI.MAX
+    )
+    # the contact point a = 0.2929 lies inside a cell: the nodal error is O(h^2) = 1e-4
+    assert err < 2e-4
+    solver.destroy()
+
+
+def test_false_convergence_is_caught_by_complementarity():
+    """SNES claiming convergence on a zero step (as PETSc's VI solvers may) is not trusted."""
+    solver, _ = _string_on_obstacle(MPI.COMM_WORLD)
+    solver.snes.setConvergenceTest(
+        lambda snes, it, norms: PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
+    )
+    with pytest.raises(SolverError, match="complementarity residual"):
+        solver.solve()
+    solver.destroy()
+
+
+def test_stagnation_above_round_off_is_not_convergence():
+    """A step tolerance of 0.99 would stop after one step; the residual check refuses it."""
+    solver, _ = _string_on_obstacle(MPI.COMM_WORLD, options=SNESOptions(stol=0.99, max_it=100))
+    h = solver.solve()
+    assert h.reason_name != "CONVERGED_SNORM_RELATIVE" and h.complementarity < 1e-9
+    solver.destroy()
+
+
+def test_penalty_then_vi_matches_plain_vi():
+    s1, u1 = _string_on_obstacle(MPI.COMM_WORLD)
+    s1.solve()
+    s2, u2 = _string_on_obstacle(MPI.COMM_WORLD)
+    hist = s2.solve_penalty()
+    assert hist[-1].newton_iterations <= 3
+    assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
+    s1.destroy()
+    s2.destroy()
+
+
+def test_bounds_on_a_subspace_of_a_mixed_space():
+    mesh = dolfinx.mesh.create_unit_interval(MPI.COMM_WORLD, 8)
+    import basix.ufl
+
+    el = basix.ufl.element("Lagrange", mesh.basix_cell(), 1)
+    W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([el, el]))
+    lo = bounds_function(W, 0.0, sub=1)
+    _, d0 = W.sub(0).collapse()
+    _, d1 = W.sub(1).collapse()
+    assert np.all(np.isnan(lo.x.array[d0])) and np.all(lo.x.array[d1] == 0.0)
+
+
+def test_same_solution_on_one_and_all_ranks():
+    """The distributed solve equals a serial solve (to solver tolerance)."""
+    sw, uw = _string_on_obstacle(MPI.COMM_WORLD, n=64)
+    sw.solve()
+    ss, us = _string_on_obstacle(MPI.COMM_SELF, n=64)
+    ss.solve()
+    Vw = uw.function_space
+    n = Vw.dofmap.index_map.size_local
+    xw = Vw.tabulate_dof_coordinates()[:n, 0]
+    xs = us.function_space.tabulate_dof_coordinates()[:, 0]
+    order = np.argsort(xs)
+    vs = np.interp(xw, xs[order], us.x.array[order])
+    assert np.allclose(uw.x.array[:n], vs, atol=1e-11)
+    sw.destroy()
+    ss.destroy()
