@@ -1,0 +1,23 @@
+"""Demos run at tiny sizes (they are importable functions with a CLI)."""
+
+from __future__ import annotations
+
+import json
+
+from demos import obstacle, reynolds_1d
+
+
+def test_reynolds_demo_tiny(mpi_tmp_path):
+    out = mpi_tmp_path / "demo"
+    assert reynolds_1d.main(["--sizes", "600", "--out", str(out)]) == 0
+    from dolfinx_seal.mpi import COMM_WORLD
+
+    COMM_WORLD.barrier()
+    res = json.loads((out / "results.json").read_text())
+    assert abs(res["x_cavitation"] - res["reference_x_cavitation"]) < 1e-4
+    assert (out / "pressure.png").stat().st_size > 1000
+    assert (out / "solver_table.csv").read_text().count("\n") == 4  # header + 3 strategies
+
+
+def test_obstacle_demo_tiny():
+    obstacle.main(["--cells", "8"])
