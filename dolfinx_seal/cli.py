@@ -94,6 +94,10 @@ def build_parser() -> argparse.ArgumentParser:
             help="comma-separated values, or start:stop:n[:log]",
         )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
+
+    from dolfinx_seal import meshcmd
+
+    meshcmd.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,182 @@
+"""DOLFINx meshes from the Gmsh builders: the same measures at any number of ranks.
+
+Gmsh runs on rank 0; the builder is wrapped so that rank 0 also measures the
+Gmsh mesh itself with numpy (cell volumes, tagged facet areas), and that
+reference travels to every rank with the mesh description.  The distributed
+DOLFINx integrals must reproduce it to round-off, at 1 and at 2 ranks, and lie
+within the polygonal-approximation error of the closed forms.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+import ufl
+from mpi4py import MPI
+
+from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.meshing import (
+    create_mesh,
+    facet_coordinates,
+    from_builder,
+    integrate,
+    measure,
+    read_mesh,
+    tagged_measures,
+)
+from geometry import load, mesh_arrays, tags
+
+SMALL: dict[str, dict[str, Any]] = {
+    "cylinder": {"h_contact": 30e-6, "h_arc": 100e-6, "h_far": 2e-3},
+    "ball": {"h_contact": 0.3e-3, "h_cap": 0.6e-3, "h_far": 2.5e-3, "growth": 0.4},
+    "lip": {"h_contact": 10e-6, "h_far": 0.4e-3},
+    "lip-sector": {"elements_per_wavelength": 2.0, "h_far": 100e-6, "growth": 0.5},
+}
+
+
+def _simplex_measures(x: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Lengths, areas or volumes of simplices (rows of ``t``) in 2D or 3D."""
+    d = [x[t[:, i]] - x[t[:, 0]] for i in range(1, t.shape[1])]
+    if len(d) == 1:
+        return np.linalg.norm(d[0], axis=1)
+    if len(d) == 2:
+        return 0.5 * np.linalg.norm(np.cross(d[0], d[1]), axis=1)
+    return abs(np.einsum("ij,ij->i", np.cross(d[0], d[1]), d[2])) / 6.0
+
+
+def measured_build(kind: str):
+    """The kind's builder, also storing numpy measures of the Gmsh mesh in ``info.extra``."""
+    build = load(kind).BUILD
+
+    def wrapped(params: Any):
+        info = build(params)
+        x, groups = mesh_arrays(info)
+        info.extra["gmsh_measures"] = {
+            n: float(_simplex_measures(x, t).sum()) for n, t in groups.items()
+        }
+        return info
+
+    return wrapped
+
+
+def make(kind: str, **kw: Any):
+    mod = load(kind)
+    params = mod.PARAMS(**{**SMALL[kind], **kw})
+    return from_builder(measured_build(kind), params, MPI.COMM_WORLD)
+
+
+@pytest.mark.parametrize("kind", ["cylinder", "ball", "lip", "lip-sector"])
+def test_measures_equal_the_gmsh_mesh_at_any_rank_count(kind):
+    tm = make(kind)
+    ref = tm.info["extra"]["gmsh_measures"]
+    got = tagged_measures(tm)
+    assert set(got) == set(ref)
+    for name, value in got.items():
+        assert value == pytest.approx(ref[name], rel=1e-12), name
+    # cells and tags survive the distribution
+    tdim = tm.mesh.topology.dim
+    ncells = tm.mesh.topology.index_map(tdim).size_local
+    assert tm.comm.allreduce(ncells, op=MPI.SUM) == tm.info["num_cells"]
+    local_values = set(np.unique(tm.facet_tags.values).tolist())
+    values = set().union(*tm.comm.allgather(local_values))
+    assert values == set(tm.info["facet_groups"].values())
+    assert tm.tag("contact") == tags.CONTACT
+    assert tm.mesh.name == kind
+
+
+def _polygon_error_bound(kind: str, info: dict[str, Any]) -> float:
+    """Relative bound of the polygonal error of the linear mesh, from the element sizes.
+
+    A chord of length h on a circle of radius R misses about h³ / (12 R): an arc
+    of length L meshed with chords of at most h misses L h² / (12 R).  A triangle
+    of circumradius c <= h inscribed in a sphere misses at most c² / (2 R) times
+    its area.
+    """
+    p, ref = info["params"], info["reference"]
+    if kind == "cylinder":  # the lower half circle, coarse elements
+        R = p["radius"]
+        return math.pi * R * p["h_far"] ** 2 / (12 * R) / ref["area"]
+    if kind == "ball":
+        R = p["radius"]
+        sphere = ref["area_contact"] + ref["area_free"]
+        return sphere * p["h_far"] ** 2 / (2 * R) / ref["volume"]
+    if kind == "lip":  # groove (coarse) and tip (fine) arcs
+        groove = math.pi * p["groove_radius"]
+        tip = math.pi * p["tip_radius"]
+        sag = groove * p["h_far"] ** 2 / (12 * p["groove_radius"])
+        sag += tip * p["h_contact"] ** 2 / (12 * p["tip_radius"])
+        return sag / ref["area"]
+    # sector: the tip torus (curvature 1 / tip_radius, fine elements) and the revolved
+    # faces (curvature <= 1 / r0)
+    lip, ex = p["lip"], info["extra"]
+    rho, r0 = lip["tip_radius"], ex["tip_r"]
+    tip = ex["angle"] * r0 * rho * math.radians(180.0 - lip["oil_angle"] - lip["air_angle"])
+    faces = sum(ref[f"area_{n}"] for n in ("contact", "oil_side", "air_side", "cut"))
+    sag = tip * ex["h_band"] ** 2 / (2 * rho) + faces * p["h_far"] ** 2 / (2 * r0)
+    return sag / ref["volume"]
+
+
+@pytest.mark.parametrize(("kind", "key"), [("cylinder", "area"), ("ball", "volume"),
+                                           ("lip", "area"), ("lip-sector", "volume")])  # fmt: skip
+def test_measures_against_closed_forms(kind, key):
+    tm = make(kind)
+    rel = _polygon_error_bound(kind, tm.info)
+    assert abs(measure(tm) / tm.info["reference"][key] - 1) < rel
+    assert rel < 0.1
+
+
+def test_lip_pappus_volume_with_curved_elements():
+    """2 pi ∫ r dA with second-order geometry: the arcs are followed to ~(h/rho)^4."""
+    tm1, tm2 = make("lip", order=1), make("lip", order=2)
+    exact = tm1.info["reference"]["volume_revolved"]
+    errors = []
+    for tm in (tm1, tm2):
+        x = ufl.SpatialCoordinate(tm.mesh)
+        errors.append(abs(integrate(tm, 2 * math.pi * x[0]) / exact - 1))
+    assert errors[1] < 1e-6 < errors[0] < 2e-3
+    # contact band area of the revolved seal, by Pappus
+    x = ufl.SpatialCoordinate(tm2.mesh)
+    band = integrate(tm2, 2 * math.pi * x[0], "contact")
+    assert band == pytest.approx(tm2.info["reference"]["area_revolved_contact"], rel=1e-6)
+
+
+def test_ball_curved_elements_reduce_the_volume_error():
+    tm1, tm2 = make("ball", order=1), make("ball", order=2)
+    exact = tm1.info["reference"]["volume"]
+    e1, e2 = (abs(measure(t) / exact - 1) for t in (tm1, tm2))
+    assert e2 < e1 / 20
+
+
+def test_sector_periodic_faces_match_after_distribution():
+    tm = make("lip-sector")
+    th = tm.info["extra"]["angle"]
+    T = np.asarray(tm.info["extra"]["periodic_transform"]).reshape(4, 4)[:3, :3]
+    left = np.unique(facet_coordinates(tm, "periodic_left"), axis=0)
+    right = np.unique(facet_coordinates(tm, "periodic_right"), axis=0)
+    assert len(left) == len(right) > 0
+    rotated = left @ T.T
+    d2 = ((rotated[:, None, :] - right[None, :, :]) ** 2).sum(axis=2)
+    assert len(np.unique(d2.argmin(axis=1))) == len(right)
+    assert np.sqrt(d2.min(axis=1)).max() < 1e-12
+    assert np.allclose(np.arctan2(right[:, 1], right[:, 0]), th / 2, atol=1e-12)
+
+
+def test_write_and_read_back(mpi_tmp_path):
+    tm = create_mesh("cylinder", out_dir=mpi_tmp_path, shape="half", **SMALL["cylinder"])
+    assert (mpi_tmp_path / "cylinder.msh").is_file() and (mpi_tmp_path / "info.json").is_file()
+    back = read_mesh(mpi_tmp_path / "cylinder.msh")
+    assert back.info["facet_groups"] == tm.info["facet_groups"]
+    a, b = tagged_measures(tm), tagged_measures(back)
+    assert set(a) == set(b) == {"body", "contact", "load", "free", "symmetry"}
+    for k in a:
+        assert b[k] == pytest.approx(a[k], rel=1e-13)
+
+
+def test_bad_parameters_raise_on_every_rank():
+    with pytest.raises(ParameterError, match="interference"):
+        create_mesh("lip", interference=5e-3)
+    with pytest.raises(ParameterError, match="unknown mesh kind"):
+        create_mesh("cube")
