@@ -26,7 +26,10 @@ from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.output import SweepWriter, write_results
 
 #: scene name -> module that defines ``SCENE``.
-REGISTRY: dict[str, str] = {}
+REGISTRY: dict[str, str] = {
+    "rubber-friction": "dolfinx_seal.scenes.rubber_friction",
+    "flat": "dolfinx_seal.scenes.flat",
+}
 
 #: A point callback of a sweep: receives the sweep value and the results of the point.
 PointCallback = Callable[[float, Mapping[str, Any]], None]

@@ -1,0 +1,224 @@
+"""Scene ``flat``: flat-on-flat sliding in a fluid, viscous hydroplaning (S1 section 4).
+
+A rubber block with a flat surface slides on a rigid rough flat in a
+Newtonian fluid; the mean-field theory of S1 eqs 31-35 (with Persson's
+``A(zeta)``, ``u(zeta)`` and ``u1(zeta)`` at the fluid-reduced asperity load,
+see :mod:`dolfinx_seal.contact.hydroplaning`) gives the load split and the
+friction ``mu = (sigma_cont + sigma_fluid) / p0``.  No finite elements.
+
+Defaults are the S1 figure 32 system (E = 10 MPa, rms roughness 1 um, D_f =
+2.2, eta = 0.1 Pa s, sigma_1 = 1 MPa, real contact where u < 1 nm).  S1 does
+not state the nominal pressure, the cut-offs or the system size for figures
+32-35; we take ``q0 = 1e4``, ``q1 = 7.8e9`` 1/m and ``nu = 0.5`` of its figure
+4 (same rubber and substrate), ``p0 = 0.1618`` MPa (the mean Hertz pressure of
+that figure) and ``L = 2 pi / q0``.
+
+``run`` writes ``results.json``, ``profile.csv`` (``zeta, A/A0, p_cont,
+p_fluid``) and ``flat.png``; a sweep over ``velocity`` (or ``eta``) reuses one
+tabulation of the contact mechanics and draws S1 figures 32-33.
+
+Example::
+
+    dolfinx-seal run flat --set velocity=3e-5
+    dolfinx-seal sweep flat --over velocity --values 1e-7:1e-1:61:log
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from dolfinx_seal.contact.hydroplaning import FlatOnFlat, HydroplaningResult
+from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.params import (
+    check_int_range,
+    check_nonnegative,
+    check_positive,
+    check_range,
+)
+from dolfinx_seal.roughness.psd import RoughnessParams
+from dolfinx_seal.scenes import PointCallback, Scene, set_parameter
+
+
+@dataclass(frozen=True)
+class FlatParams:
+    """Parameters of the ``flat`` scene (SI units; defaults: S1 figure 32).
+
+    Attributes:
+        velocity: Sliding speed [m/s].
+        eta: Fluid viscosity [Pa s].
+        pressure: Nominal pressure ``p0`` [Pa].
+        youngs_modulus: ``E`` of the rubber [Pa].
+        nu: Poisson ratio (``E* = E / (1 - nu^2)``).
+        roughness: Substrate roughness (nested table ``[parameters.roughness]``).
+        sigma1: Frictional shear stress in the real contact area [Pa].
+        kappa: Tilted-junction factor of S1 eq 32.
+        gamma: Yang-Persson factor.
+        u_contact: Separation below which surfaces count as in contact [m].
+        system_size: ``L`` of ``lambda = L/zeta`` [m]; 0 means ``2 pi / q_L``.
+        points_per_decade: Magnification resolution.
+        n_pressures: Size of the contact-mechanics table.
+    """
+
+    velocity: float = 1.0e-5
+    eta: float = 0.1
+    pressure: float = 0.1618e6
+    youngs_modulus: float = 10.0e6
+    nu: float = 0.5
+    roughness: RoughnessParams = field(default_factory=RoughnessParams)
+    sigma1: float = 1.0e6
+    kappa: float = 0.2
+    gamma: float = 0.4
+    u_contact: float = 1.0e-9
+    system_size: float = 0.0
+    points_per_decade: int = 30
+    n_pressures: int = 48
+
+    def __post_init__(self) -> None:
+        check_nonnegative("velocity", self.velocity, "m/s")
+        check_positive("eta", self.eta, "Pa s")
+        check_positive("pressure", self.pressure, "Pa")
+        check_positive("youngs_modulus", self.youngs_modulus, "Pa")
+        check_range("nu", self.nu, -1.0, 0.5, lo_open=True, hi_open=False)
+        check_nonnegative("sigma1", self.sigma1, "Pa")
+        check_positive("kappa", self.kappa)
+        check_range("gamma", self.gamma, 0.0, 1.0, lo_open=True)
+        check_positive("u_contact", self.u_contact, "m")
+        check_nonnegative("system_size", self.system_size, "m")
+        check_int_range("points_per_decade", self.points_per_decade, 5)
+        check_int_range("n_pressures", self.n_pressures, 8)
+
+    @property
+    def e_star(self) -> float:
+        """``E* = E / (1 - nu^2)`` [Pa]."""
+        return self.youngs_modulus / (1.0 - self.nu**2)
+
+    def model(self) -> FlatOnFlat:
+        """The tabulated :class:`FlatOnFlat` model (independent of ``velocity`` and ``eta``)."""
+        return FlatOnFlat(
+            self.roughness.build(), self.e_star, self.pressure, self.sigma1, self.kappa,
+            self.gamma, self.u_contact, self.system_size or None, self.points_per_decade,
+            self.n_pressures,
+        )  # fmt: skip
+
+
+def _results(res: HydroplaningResult, params: FlatParams, model: FlatOnFlat) -> dict[str, Any]:
+    alpha, beta = model.theory.asymptote()
+    out: dict[str, Any] = {
+        "mu": res.mu,
+        "velocity": params.velocity,
+        "eta_v": res.eta_v,
+        "sigma_contact": res.sigma_contact,
+        "sigma_fluid": res.sigma_fluid,
+        "p_contact": res.p_contact1,
+        "p_fluid": res.p_fluid1,
+        "fluid_load_fraction": res.p_fluid1 / params.pressure,
+        "contact_area_fraction": res.area1,
+        "hydroplaning": res.hydroplaning,
+        "alpha": alpha,
+        "beta": beta,
+        "zeta1": res.zeta1,
+        "converged": True,
+    }
+    return out
+
+
+def run(params: FlatParams, out_dir: Path) -> dict[str, Any]:
+    """Solve one point; write ``profile.csv`` and ``flat.png``."""
+    model = params.model()
+    res = model.solve(params.eta * params.velocity)
+    if COMM_WORLD.rank == 0:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        np.savetxt(
+            out_dir / "profile.csv",
+            np.column_stack((res.zeta, res.area, res.p_contact, res.p_fluid)),
+            delimiter=",", header="zeta,area_fraction,p_contact_Pa,p_fluid_Pa", comments="",
+        )  # fmt: skip
+        _plot_profile(out_dir / "flat.png", res)
+    return _results(res, params, model)
+
+
+def sweep(
+    params: FlatParams,
+    out_dir: Path,
+    name: str,
+    values: list[float],
+    on_point: PointCallback,
+) -> list[dict[str, Any]]:
+    """Sweep; over ``velocity`` or ``eta`` one tabulated model serves every point."""
+    rows: list[dict[str, Any]] = []
+    model = params.model() if name in ("velocity", "eta") else None
+    for v in values:
+        p = set_parameter(params, name, v)
+        m = model if model is not None else p.model()
+        r = _results(m.solve(p.eta * p.velocity), p, m)
+        on_point(v, r)
+        rows.append(r)
+    return rows
+
+
+def _plot_profile(path: Path, res: HydroplaningResult) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    lz = np.log10(res.zeta)
+    ax1.plot(lz, res.p_contact / 1e6, label="p_cont")
+    ax1.plot(lz, res.p_fluid / 1e6, label="p_fluid")
+    ax1.set_xlabel("log10 magnification zeta")
+    ax1.set_ylabel("nominal pressure [MPa]")
+    ax1.legend()
+    ax1.set_title(f"eta v = {res.eta_v:.3g} Pa m (S1 fig 34)")
+    ax2.plot(lz, np.log10(np.maximum(res.area, 1e-12)))
+    ax2.set_xlabel("log10 magnification zeta")
+    ax2.set_ylabel("log10 A(zeta)/A0")
+    ax2.set_title("contact area (S1 fig 35)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
+    """``mu`` and the shear stresses against ``log10(eta v)`` (S1 figures 32-33)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ev = np.array([float(r["eta_v"]) for r in rows])
+    x = (
+        np.log10(np.maximum(ev, 1e-300))
+        if np.all(ev > 0)
+        else np.array([float(r[name]) for r in rows])
+    )
+    xl = "log10(eta v) [Pa m]" if np.all(ev > 0) else name
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    ax1.plot(x, [float(r["mu"]) for r in rows], "o-", ms=3)
+    ax1.set_xlabel(xl)
+    ax1.set_ylabel("friction coefficient mu")
+    ax1.set_title("flat on flat (S1 fig 32)")
+    ax2.plot(x, [float(r["sigma_contact"]) / 1e6 for r in rows], "o-", ms=3, label="sigma_cont")
+    ax2.plot(x, [float(r["sigma_fluid"]) / 1e6 for r in rows], "s-", ms=3, label="sigma_fluid")
+    ax2.set_xlabel(xl)
+    ax2.set_ylabel("shear stress [MPa]")
+    ax2.set_yscale("symlog", linthresh=1e-4)
+    ax2.legend()
+    ax2.set_title("S1 fig 33")
+    fig.tight_layout()
+    fig.savefig(Path(out_dir) / "sweep.png", dpi=110)
+    plt.close(fig)
+
+
+SCENE = Scene(
+    name="flat",
+    summary="flat-on-flat soft contact in a fluid: mu(eta v), viscous hydroplaning (S1 sec 4; no FEM)",
+    parameters=FlatParams,
+    run=run,
+    sweep=sweep,
+    plot_sweep=plot_sweep,
+)
