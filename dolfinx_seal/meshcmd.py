@@ -169,7 +169,8 @@ def _edges_2d(ax: Any, x: Any, groups: dict[str, Any], swap: bool, scale: float)
 
 def _plot_2d(fig: Any, info: Any, x: Any, groups: dict[str, Any]) -> None:
     p = info.params
-    ax1, ax2 = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.6] if info.kind == "lip" else [1.0, 1.0])
+    ax1, ax2 = fig.add_subplot(gs[0]), fig.add_subplot(gs[1])
     mm = 1e3
     if info.kind == "lip":
         # axial direction horizontal, radial upwards: the usual seal drawing
@@ -180,11 +181,11 @@ def _plot_2d(fig: Any, info: Any, x: Any, groups: dict[str, Any]) -> None:
             ax.set_xlabel("z (axial) [mm]")
             ax.set_ylabel("r [mm]")
         ax1.set_title("axisymmetric section (oil side left, air side right)")
-        zlo, zhi = -p.band_oil - 0.4e-3, p.band_air + 0.4e-3
+        zlo, zhi = -p.band_oil - 0.5e-3, p.band_air + 0.5e-3
         ax2.set_xlim(zlo * mm, zhi * mm)
-        ax2.set_ylim((r0 - 0.1e-3) * mm, (r0 + 0.35 * (zhi - zlo)) * mm)
+        ax2.set_ylim((r0 - 0.1e-3) * mm, (r0 + 0.5 * (zhi - zlo)) * mm)
         ax2.set_title(
-            f"lip tip: interference {p.interference * mm:g} mm, h = {p.h_contact * 1e6:g} um"
+            f"lip tip: interference {p.interference * mm:g} mm, band h = {p.h_contact * 1e6:g} um"
         )
         ax1.autoscale_view()
     else:

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import json
 import math
+import subprocess
+import sys
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -539,3 +541,13 @@ def test_lip_sector_nested_override_from_the_cli():
 
     p = from_mapping(LipSectorParams, parse_overrides(["lip.interference=0.4e-3", "periods=2"]))
     assert p.lip.interference == 0.4e-3 and p.angle == pytest.approx(2 * 200e-6 / 40e-3)
+
+
+def test_geometry_imports_without_dolfinx():
+    code = (
+        "import sys, geometry, geometry.tags, geometry.cylinder, geometry.ball, geometry.lip, "
+        "geometry.lip_sector\n"
+        "bad = [m for m in sys.modules if m.split('.')[0] in ('dolfinx', 'petsc4py', 'ufl')]\n"
+        "assert not bad, bad"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
