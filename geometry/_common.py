@@ -197,14 +197,20 @@ def add_loop(segments: Sequence[Segment], plane: str = "xy") -> tuple[int, list[
         pts.append((p, tag))
         return tag
 
-    curves = []
+    curves, ends, centres = [], set(), set()
     for s in segments:
+        p, q = point(s.p), point(s.q)
+        ends |= {p, q}
         if isinstance(s, Line):
-            curves.append(occ.addLine(point(s.p), point(s.q)))
+            curves.append(occ.addLine(p, q))
         else:
-            curves.append(occ.addCircleArc(point(s.p), point(s.c), point(s.q)))
-    loop = occ.addCurveLoop(curves)
-    return occ.addPlaneSurface([loop]), curves
+            c = point(s.c)
+            centres.add(c)
+            curves.append(occ.addCircleArc(p, c, q))
+    surface = occ.addPlaneSurface([occ.addCurveLoop(curves)])
+    # arc centres are construction points only: left in, they would become orphan mesh nodes
+    occ.remove([(0, c) for c in sorted(centres - ends)])
+    return surface, curves
 
 
 # ---------------------------------------------------------- classification

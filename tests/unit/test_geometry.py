@@ -166,6 +166,8 @@ def test_every_group_exists_named_and_non_empty(kind, kw, expected):
     td = b.info.tdim
     assert b.names[(td, tags.BODY)] == "body"
     assert len(b.groups["body"]) == b.info.num_cells > 0
+    # every node belongs to a cell (no orphan construction points)
+    assert len(np.unique(b.groups["body"])) == len(b.x) == b.info.num_nodes
     for name in expected:
         number = tags.FACET_GROUPS[name]
         assert b.info.facet_groups[name] == number
