@@ -2,9 +2,9 @@
 
 ::
 
-    dolfinx-seal mesh lip --out meshes/lip
+    dolfinx-seal mesh lip --out results/meshes/lip
     dolfinx-seal mesh lip-sector --set lip.interference=0.4e-3 --set elements_per_wavelength=6
-    dolfinx-seal mesh ball --set shape=full --set h_contact=0.08e-3 --out meshes/ball-full
+    dolfinx-seal mesh ball --set shape=full --set h_contact=0.08e-3 --out results/meshes/ball-full
     dolfinx-seal mesh cylinder --params          # print the resolved parameters and stop
 
 Parameters are the fields of the kind's dataclass (:mod:`geometry`), changed with
@@ -48,7 +48,9 @@ def add_parser(subparsers: Any) -> None:
     sp = subparsers.add_parser(
         "mesh",
         help="build a mesh with Gmsh: KIND.msh, info.json and KIND.png",
-        description=__doc__.splitlines()[0],
+        description="Build a mesh with Gmsh (rank 0) and write KIND.msh, info.json "
+        "(parameters, versions, time) and KIND.png into --out.  --params lists the "
+        "parameters of KIND and their values.",
     )
     sp.add_argument("kind", choices=list(KINDS), help="geometry to build")
     sp.add_argument(
@@ -56,7 +58,7 @@ def add_parser(subparsers: Any) -> None:
         help="override a parameter (dotted keys for nested ones, e.g. lip.interference); "
         "repeatable",
     )  # fmt: skip
-    sp.add_argument("--out", default=None, help="output folder (default meshes/KIND)")
+    sp.add_argument("--out", default=None, help="output folder (default results/meshes/KIND)")
     sp.add_argument("--name", default=None, help="file stem (default KIND)")
     sp.add_argument("--no-png", action="store_true", help="do not draw the PNG")
     sp.add_argument("--params", action="store_true", help="print the parameters and stop")
@@ -70,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     if args.params:
         print0(json.dumps(to_dict(params), indent=2))
         return 0
-    out = Path(args.out or f"meshes/{args.kind}")
+    out = Path(args.out or f"results/meshes/{args.kind}")
     name = args.name or args.kind
     status: tuple[str, str] = ("ok", "")
     if COMM_WORLD.rank == 0:

@@ -20,7 +20,7 @@ are imported lazily, so importing this package does not import Gmsh::
     mod = load("lip")
     with gmsh_session():
         info = mod.BUILD(mod.PARAMS(interference=0.3e-3))
-        save(info, "meshes/lip")
+        save(info, "results/meshes/lip")
 
 DOLFINx meshes: :func:`dolfinx_seal.meshing.create_mesh`.
 """

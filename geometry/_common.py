@@ -541,7 +541,7 @@ def cli_main(
 ) -> int:
     """``python -m geometry.KIND --out DIR --set key=value ...``: write ``KIND.msh`` + ``info.json``."""
     ap = argparse.ArgumentParser(prog=f"python -m geometry.{kind.replace('-', '_')}")
-    ap.add_argument("--out", default=f"meshes/{kind}", help="output folder")
+    ap.add_argument("--out", default=f"results/meshes/{kind}", help="output folder")
     ap.add_argument("--name", default=None, help=f"mesh file stem (default {kind})")
     ap.add_argument(
         "--set", action="append", default=[], metavar="KEY=VALUE",
