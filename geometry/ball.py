@@ -7,9 +7,12 @@ the lubricated problem and the default model is the half ball ``y >= 0``.
 The ball is truncated by the plane ``z = H`` (``H = height_ratio * R``); the flat
 top is the ``load`` surface (a rigid plate).  ``height_ratio = 2`` keeps the
 whole ball, and the ``load`` surface is then its upper hemisphere.  Truncation
-changes the far field only: the compliance of the contact is set within a few
-contact radii, which :func:`dolfinx_seal.meshing` users can check by comparing
-``height_ratio = 1`` with ``2`` (see the README).
+changes the far field only.  Measured (linear elasticity, Hertz pressure on the
+default ball, load surface clamped; ``tests/test_meshing.py``, slow): the
+indentation shape ``u_z(0) - u_z(a)`` differs from that of the whole ball by
+0.1 % at ``H = R`` (the default), 0.6 % at ``H = 0.75 R`` and 2 % at ``H = 0.5 R``,
+and from the half-space Hertz value by less than 1 %.  Only the rigid approach
+of the load surface depends on ``H``.
 
 Groups: ``body`` (cells), ``contact`` (the spherical cap ``x² + y² <= r_cap²``
 around the contact, ``r_cap = cap_extent * a``, where the 2D Reynolds film

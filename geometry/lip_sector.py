@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import gmsh
@@ -184,7 +185,7 @@ def build_lip_sector(params: LipSectorParams | None = None, **overrides: object)
 
     tol = 1e-3 * p.h_band
 
-    def on_plane(phi: float):
+    def on_plane(phi: float) -> Callable[[np.ndarray], bool]:
         n = np.array([-math.sin(phi), math.cos(phi), 0.0])
         return lambda q: bool(abs(q @ n).max() < tol)
 
