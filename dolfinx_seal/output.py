@@ -107,10 +107,14 @@ def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = N
     comm = comm or COMM_WORLD
     out = Path(out_dir)
     path = out / "results.json"
+    # On every rank: versions() imports DOLFINx/petsc4py, whose initialisation is
+    # collective; importing them on rank 0 alone deadlocks a pure-numpy run under MPI.
+    vers = None if "versions" in results else versions()
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
         data = dict(results)
-        data.setdefault("versions", versions())
+        if vers is not None:
+            data["versions"] = vers
         for k, v in data.items():
             if isinstance(v, float) and not math.isfinite(v):
                 raise ValueError(f"results[{k!r}] = {v}: non-finite result")
