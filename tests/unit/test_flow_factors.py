@@ -1,0 +1,91 @@
+"""Flow factors: Patir-Cheng fits and the Persson-Bruggeman effective medium."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dolfinx_seal.contact import BruggemanFlowFactor, PatirCheng
+from dolfinx_seal.contact.flow_factors import bruggeman_conductivity
+from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.roughness import SelfAffinePSD
+
+GH = np.polynomial.hermite_e.hermegauss(40)
+
+
+def gauss_classes(mean: float, sd: float) -> tuple[np.ndarray, np.ndarray]:
+    z, w = GH
+    return np.abs(mean + sd * z)[None, :], w / w.sum()
+
+
+def test_bruggeman_exact_limits():
+    # one class of equal separations: s = u0^3 exactly
+    s = bruggeman_conductivity(0.0, [1.0], np.full((1, 3), 2e-6), np.ones(3) / 3)
+    assert s == pytest.approx(8e-18, rel=1e-11)
+    # 2D two-phase mixture with a fraction f of insulator: s = (1 - 2 f) sigma_1
+    for f in (0.1, 0.3, 0.45):
+        s = bruggeman_conductivity(f, [1.0 - f], np.full((1, 1), 1e-6), np.ones(1))
+        assert s == pytest.approx((1 - 2 * f) * 1e-18, rel=1e-10)
+    # percolation threshold of 2D EMT: no flow once half the area is in contact
+    assert bruggeman_conductivity(0.5, [0.5], np.full((1, 1), 1e-6), np.ones(1)) == 0.0
+
+
+def test_bruggeman_tripp_limit():
+    """Gaussian gaps, sd/mean = r small: s/u^3 = 1 - (3/2) r^2 + O(r^4) (Tripp 1983).
+
+    The remainder must shrink as r^4: halving r divides it by ~16.
+    """
+    err = []
+    for r in (0.025, 0.05, 0.1):
+        u, w = gauss_classes(1e-6, r * 1e-6)
+        err.append(abs(bruggeman_conductivity(0.0, [1.0], u, w) / 1e-18 - (1 - 1.5 * r**2)))
+    assert err[2] < 1e-3
+    for a, b in zip(err[1:], err[:-1], strict=True):
+        assert 13.0 < a / b < 19.0
+
+
+def test_patir_cheng():
+    pc = PatirCheng(1e-6)
+    h = np.array([0.5, 1.0, 3.0, 6.0])
+    np.testing.assert_allclose(
+        pc.pressure_factor(h * 1e-6), 1 - 0.9 * np.exp(-0.56 * h), rtol=1e-15
+    )
+    assert pc.pressure_factor(np.array([1e-4]))[0] == pytest.approx(1.0, abs=1e-20)
+    # the two shear-factor fits of Patir & Cheng (1979) meet at H = 5 to 0.1 %
+    lo, hi = pc.shear_factor(np.array([5e-6 * (1 - 1e-12), 5e-6 * (1 + 1e-12)]))
+    assert lo == pytest.approx(hi, rel=1e-3)
+    u = np.array([0.7, 2.0, 4.0, 7.0]) * 1e-6
+    for f, df in (
+        (pc.pressure_factor, pc.dpressure_factor_du),
+        (pc.shear_factor, pc.dshear_factor_du),
+    ):
+        np.testing.assert_allclose(
+            df(u), (f(u * (1 + 1e-7)) - f(u * (1 - 1e-7))) / (2e-7 * u), rtol=1e-6
+        )
+    with pytest.raises(ParameterError, match="u"):
+        pc.pressure_factor(np.array([0.0]))
+    with pytest.raises(ParameterError, match="sigma"):
+        PatirCheng(0.0)
+
+
+@pytest.fixture(scope="module")
+def emt() -> BruggemanFlowFactor:
+    return BruggemanFlowFactor(SelfAffinePSD(1e4, 7.8e9, 0.8, h_rms=1e-6), 10e6 / 0.75)
+
+
+def test_persson_bruggeman_factor(emt):
+    u = np.geomspace(emt.percolation_separation * 1.01, 50e-6, 300)
+    phi = emt.pressure_factor(u)
+    assert np.all(np.diff(phi) > 0) and np.all((phi > 0) & (phi < 1))
+    assert emt.pressure_factor(np.array([0.5 * emt.percolation_separation]))[0] == 0.0
+    # far from contact the flow sees nearly smooth walls: 1 - c (h/u)^2 with
+    # 0 < c <= 3/2, the Tripp value for the full height distribution (Persson's P(u)
+    # mixes folded Gaussians of width h_rms(zeta) <= h_rms)
+    assert 0.0 < emt._c_tail <= 1.5
+    assert emt.pressure_factor(np.array([50e-6]))[0] == pytest.approx(
+        1 - emt._c_tail / 2500, rel=1e-12
+    )
+    uu = np.array([0.1, 1.0, 3.0, 20.0]) * 1e-6
+    d = (emt.pressure_factor(uu * (1 + 1e-6)) - emt.pressure_factor(uu * (1 - 1e-6))) / (2e-6 * uu)
+    np.testing.assert_allclose(emt.dpressure_factor_du(uu), d, rtol=1e-5)
+    assert np.all(emt.shear_factor(uu) == 0.0)
