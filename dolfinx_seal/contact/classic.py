@@ -43,13 +43,13 @@ _GH = np.polynomial.hermite_e.hermegauss(80)
 
 
 def gw_function(n: float, lam: ArrayLike) -> FloatArray:
-    """``F_n(lambda)`` of Greenwood-Williamson (S2 eq 29), ``n >= 0``, any real ``lambda``.
+    """``F_n(lambda)`` of Greenwood-Williamson (S2 eq 29), ``n > -1``, any real ``lambda``.
 
     Jedynak's parabolic-cylinder form for ``lambda >= -30``; below, where
     ``D_{-n-1}`` would overflow, ``F_n = E[(Z - lambda)^n]`` (the Gaussian mass
     below ``lambda`` is < 1e-196) by 80-point Gauss-Hermite quadrature.
     """
-    check_range("n", n, 0.0, 50.0)
+    check_range("n", n, -1.0, 50.0, lo_open=True)
     x = as_array("lambda", lam)
     out = np.empty_like(x, dtype=float)
     ok = x >= -30.0

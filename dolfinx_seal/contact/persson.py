@@ -242,8 +242,9 @@ class PerssonExponentialLaw(_AreaMixin, ContactLaw):
     """``p(u) = beta E* exp(-alpha u / h_rms)`` (S1 eq 4, S0 eq 7).
 
     Defined for every real ``u`` (a Newton iterate may overshoot to ``u < 0``);
-    the exponent is capped at 700 (a penetration of ``700 h_rms/alpha``, far
-    beyond any physical state) so ``p`` stays finite instead of overflowing.
+    ``ln p`` is capped at 700 (``p ~ 1e304`` Pa, a penetration of hundreds of
+    ``h_rms``, far beyond any physical state) so ``p`` stays finite instead of
+    overflowing.
 
     Args:
         alpha, beta: Dimensionless parameters (``>0``).
@@ -287,7 +288,8 @@ class PerssonExponentialLaw(_AreaMixin, ContactLaw):
     def pressure(self, u: ArrayLike) -> FloatArray:
         """``beta E* exp(-alpha u/h_rms)`` [Pa]."""
         ua = as_array("u", u)
-        return self.beta * self.e_star * np.exp(np.minimum(-self.alpha * ua / self.h_rms, _EXP_CAP))
+        lnp = math.log(self.beta * self.e_star) - self.alpha * ua / self.h_rms
+        return np.exp(np.minimum(lnp, _EXP_CAP))
 
     def dpressure_du(self, u: ArrayLike) -> FloatArray:
         """``-alpha/h_rms p(u)`` [Pa/m]."""

@@ -42,7 +42,7 @@ from scipy.interpolate import CubicSpline
 from scipy.special import erf, erfc, exp1
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_int_range, check_positive, check_range
+from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
 FloatArray = NDArray[np.float64]
@@ -89,13 +89,14 @@ def separation_kernel(x0: ArrayLike, gamma: float) -> FloatArray:
 
 
 def elastoplastic_fractions(
-    g: ArrayLike, ratio: ArrayLike
+    g: ArrayLike, ratio: ArrayLike, method: str = "auto"
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``(P_el, P_pl, P_non)`` of S3 appendix C (eqs C9-C10) for a yield stress.
 
     Args:
         g: ``G(q) / sigma_0^2`` [-] (S3 eq C11), ``>= 0``.
         ratio: ``sigma_0 / sigma_Y``, ``0 < ratio < 1`` (broadcast against ``g``).
+        method: ``"auto"`` (below), or force ``"fourier"`` / ``"images"`` (for tests).
 
     The Fourier series C9-C10 are summed with their closed-form limits
     ``sum sin(n t)/n = (pi - t)/2`` and ``sum (-1)^n sin(n t)/n = -t/2`` (``t =
@@ -114,7 +115,10 @@ def elastoplastic_fractions(
     t = math.pi * ra
     p_non = np.zeros_like(ga)
     p_pl = np.zeros_like(ga)
-    four = ga * t * t >= 1e-3
+    check_choice("method", method, ("auto", "fourier", "images"))
+    four = ga * t * t >= 1e-3 if method == "auto" else np.full(ga.shape, method == "fourier")
+    if method == "fourier" and np.any(ga * t * t < 1e-6):
+        raise ParameterError("method='fourier' needs g (pi ratio)^2 >= 1e-6 (else use images)")
     if np.any(four):
         gg, tt = ga[four], t[four]
         nmax = math.ceil(math.sqrt(45.0 / np.min(tt * tt * gg))) + 1
@@ -127,7 +131,7 @@ def elastoplastic_fractions(
     if np.any(img):
         sg = 2.0 * np.sqrt(ga[img])[:, None]
         r = ra[img][:, None]
-        k = np.arange(-3, 4)[None, :]
+        k = np.arange(-6, 7)[None, :]
         c_non = 1.0 + 2.0 * k / r
         c_pl = (1.0 / r - 1.0) + 2.0 * k / r
         with np.errstate(divide="ignore"):

@@ -70,7 +70,7 @@ class PowerSpectrum:
         self.exponents = np.diff(self._lc) / np.diff(self._lq)
         self.q_min = float(q[0])
         self.q_max = float(q[-1])
-        self._cum: dict[float, FloatArray] = {}
+        self._cum: dict[object, FloatArray] = {}
 
     # ------------------------------------------------------------------ values
     def __call__(self, q: ArrayLike) -> FloatArray:
@@ -109,13 +109,29 @@ class PowerSpectrum:
         part = self.c_nodes[idx] * qk ** (m + 1.0) * _power_integral(k, np.log(qa / qk))
         return cum[idx] + part
 
+    def tail(self, m: float, q: ArrayLike) -> FloatArray:
+        """``int_{q}^{q_max} q'^m C(q') dq'`` (vectorised, exact, no cancellation)."""
+        if ("tail", m) not in self._cum:
+            seg = self._segment_integrals(m)
+            self._cum[("tail", m)] = np.concatenate((np.cumsum(seg[::-1])[::-1], [0.0]))
+        after = self._cum[("tail", m)]
+        qa = np.clip(np.asarray(q, dtype=float), self.q_min, self.q_max)
+        idx = np.clip(np.searchsorted(self.q_nodes, qa, side="right") - 1, 0, self.q_nodes.size - 2)
+        k = m + self.exponents[idx] + 1.0
+        cq = self.c_nodes[idx] * (qa / self.q_nodes[idx]) ** self.exponents[idx]
+        part = cq * qa ** (m + 1.0) * _power_integral(k, np.log(self.q_nodes[idx + 1] / qa))
+        return after[idx + 1] + part
+
     def integral(self, m: float, q_a: float | None = None, q_b: float | None = None) -> float:
-        """``int_{q_a}^{q_b} q^m C(q) dq`` (defaults: the whole support)."""
-        a = self.q_min if q_a is None else q_a
-        b = self.q_max if q_b is None else q_b
+        """``int_{q_a}^{q_b} q^m C(q) dq`` (defaults: the whole support), exact."""
+        a = self.q_min if q_a is None else float(q_a)
+        b = self.q_max if q_b is None else float(q_b)
         if b < a:
             raise ParameterError(f"integral bounds must satisfy q_a <= q_b, got {a:g} > {b:g}")
-        return float(self.cumulative(m, b) - self.cumulative(m, a))
+        # whichever of head/tail is smaller is computed without cancellation
+        head = float(self.cumulative(m, b) - self.cumulative(m, a))
+        tail = float(self.tail(m, a) - self.tail(m, b))
+        return tail if self.tail(m, a) < self.cumulative(m, b) else head
 
     # ---------------------------------------------------------------- moments
     def h_rms(self, q_a: float | None = None, q_b: float | None = None) -> float:
@@ -146,8 +162,7 @@ class PowerSpectrum:
         z = np.asarray(zeta, dtype=float)
         if np.any(z < 1.0):
             raise ParameterError(f"zeta must be >= 1 (magnification), got min {np.min(z):g}")
-        total = self.cumulative(1.0, self.q_max)
-        return np.sqrt(2.0 * math.pi * np.maximum(total - self.cumulative(1.0, z * self.q_min), 0))
+        return np.sqrt(2.0 * math.pi * self.tail(1.0, z * self.q_min))
 
     # ---------------------------------------------------------------- derived
     def restrict(self, q_a: float, q_b: float | None = None) -> PowerSpectrum:
