@@ -123,6 +123,15 @@ def test_flat_python_api_equals_cli(mpi_tmp_path):
     assert math.isfinite(res["alpha"]) and res["alpha"] > 0
 
 
+def test_flat_full_contact_and_zero_speed(mpi_tmp_path):
+    """p0 above E* slope: no area leaves contact; v = 0: dry contact, no fluid load."""
+    p = scenes.make_parameters("flat", overrides=["pressure=1e7", "velocity=0", *SMALL_FLAT[1::2]])
+    res = scenes.run_scene("flat", p, mpi_tmp_path / "flat_full")
+    assert res["contact_area_fraction"] > 0.99 and res["hydroplaning"] is False
+    assert res["p_fluid"] == 0.0 and res["sigma_fluid"] == 0.0
+    assert res["mu"] == pytest.approx(1e6 * res["contact_area_fraction"] / 1e7, rel=1e-12)
+
+
 @pytest.mark.parametrize(
     ("scene", "setting", "name"),
     [("flat", "roughness.hurst=1.5", "roughness.hurst"), ("flat", "velocity=-1", "velocity"),

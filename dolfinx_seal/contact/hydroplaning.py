@@ -44,7 +44,6 @@ from scipy.optimize import brentq
 from scipy.special import erfc
 
 from dolfinx_seal.contact.persson_theory import PerssonTheory
-from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_int_range, check_nonnegative, check_positive
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
@@ -63,7 +62,8 @@ class HydroplaningResult:
         p_fluid: ``p_fluid(zeta)`` [Pa] at the nodes.
         zeta_mid, u1: ``u1`` [m] at the interval midpoints (at the marched load).
         zeta1: Magnification where real contact ends: where ``u1 = u_c``, or where
-            the contact area vanished when hydroplaning.
+            the contact area vanished when hydroplaning (the largest magnification
+            when no area leaves contact at all).
         area1: ``A(zeta_1)/A0`` (0 when hydroplaning).
         p_contact1, p_fluid1: Load split at ``zeta_1`` [Pa].
         sigma_contact, sigma_fluid: Frictional shear stresses [Pa] (S1 eq 35).
@@ -161,9 +161,13 @@ class FlatOnFlat:
         lam = self.system_size / self.zeta_mid
         for i in range(nz - 1):
             u1[i] = self.u1(i, self.p0 - pf[i])
-            kk = self.kappa * ev * lam[i] / u1[i] ** 2
+            kk = self.kappa * ev * lam[i] / u1[i] ** 2 if ev > 0 else 0.0
             b[i + 1], pf[i + 1] = self._step(b[i], pf[i], kk, self._sqrt_g[i + 1])
             sig_f[i] = (b[i + 1] - b[i]) * ev / u1[i]
+            if u1[i] <= self.u_contact or b[i + 1] >= 1.0:
+                # past zeta_1 (or no contact left): the rest does not enter eq 35
+                b[i + 2 :], pf[i + 2 :], u1[i + 1 :] = b[i + 1], pf[i + 1], u1[i]
+                break
         area = 1.0 - b
         p_fluid = pf
         p_cont = self.p0 - pf
@@ -223,10 +227,15 @@ class FlatOnFlat:
             area1, pc1, zeta1, hydro = 0.0, 0.0, float(self.zeta[k_lost]), True
             sig_fluid = float(np.sum(sig_f[:k_lost]))
         else:
-            raise ParameterError(
-                f"u1 never drops below u_contact = {self.u_contact:g} m before the largest "
-                "magnification; lower u_contact or extend q1"
+            # no area leaves contact at any resolved magnification (p0 >~ E* slope):
+            # contact everywhere up to q1
+            area1, pc1, zeta1, hydro = (
+                float(area[-1]),
+                float(p_cont[-1]),
+                float(self.zeta[-1]),
+                False,
             )
+            sig_fluid = float(np.sum(sig_f))
         sig_c = self.sigma1 * area1
         return HydroplaningResult(
             eta_v=ev, zeta=self.zeta, area=area, p_contact=p_cont, p_fluid=p_fluid,

@@ -198,19 +198,27 @@ class PerssonTheory:
         self._gl8 = np.polynomial.legendre.leggauss(8)
 
     # ------------------------------------------------------------------ area
-    def g_function(self, zeta: ArrayLike) -> FloatArray:
-        """``G(zeta q_L)`` [Pa^2]."""
+    def _zeta(self, zeta: ArrayLike) -> FloatArray:
         z = np.asarray(zeta, dtype=float)
+        if np.any(~np.isfinite(z)) or np.any(z < 1.0) or np.any(z > self.zeta_max * (1 + 1e-12)):
+            raise ParameterError(f"zeta must lie in [1, zeta_max = {self.zeta_max:g}]")
+        return z
+
+    def g_function(self, zeta: ArrayLike) -> FloatArray:
+        """``G(zeta q_L)`` [Pa^2], ``1 <= zeta <= zeta_max``."""
+        z = self._zeta(zeta)
         return 0.25 * math.pi * self.e_star**2 * self.psd.cumulative(3.0, z * self.q_lo)
 
     def dg_dzeta(self, zeta: ArrayLike) -> FloatArray:
         """``dG/dzeta = (pi/4) E*^2 q^3 C(q) q_L`` at ``q = zeta q_L`` [Pa^2]."""
-        q = np.asarray(zeta, dtype=float) * self.q_lo
+        q = self._zeta(zeta) * self.q_lo
         return 0.25 * math.pi * self.e_star**2 * q**3 * self.psd(q) * self.q_lo
 
     def area_fraction(self, p: ArrayLike, zeta: ArrayLike | None = None) -> FloatArray:
         """``A(zeta)/A0 = erf(p / (2 G^{1/2}))`` for nominal pressure ``p`` [Pa] (default q = q1)."""
         pa = np.asarray(p, dtype=float)
+        if np.any(~np.isfinite(pa)) or np.any(pa < 0):
+            raise ParameterError("p must be finite and >= 0 (Pa)")
         g = self.g_function(self.zeta_max if zeta is None else zeta)
         with np.errstate(divide="ignore"):
             return erf(pa / (2.0 * np.sqrt(g)))

@@ -121,6 +121,8 @@ class RubberFriction:
         ``S_abs = int_0^{2 pi} |E(q v cos phi)|^2 dphi``.
         """
         va = np.atleast_1d(np.asarray(v, dtype=float))
+        if np.any(~np.isfinite(va)) or np.any(va <= 0):
+            raise ParameterError("velocity must be finite and > 0 (m/s)")
         omega = va[:, None, None] * self.q[None, :, None] * self._x[None, None, :]
         e = self.modulus(omega)
         s_loss = 4.0 * (np.imag(e) * self._x) @ self._wx
