@@ -71,11 +71,11 @@ class SNESOptions:
         ksp_type: Krylov solver (``preonly`` for a direct solve).
         pc_type: Preconditioner (``lu`` for a direct solve).
         factor_solver: Direct solver package (``mumps``, ``superlu_dist``, ``petsc``).
-        floor_rtol: Round-off allowance, relative to the forcing scale ``|F(0)|``: a
-            solve that stagnates (step below ``stol``) is accepted only if its
-            residual is below ``floor_rtol |F(0)|``, and a VI solution only if its
-            natural residual ``|x - P(x - F)|`` is below
-            ``max(atol, rtol |F(0)|, floor_rtol |F(0)|)``.
+        floor_rtol: Round-off allowance: a solve that stagnates (step below ``stol``)
+            is accepted only if its residual is below ``floor_rtol |F(0)|`` or its
+            Jacobi-scaled residual (:meth:`NonlinearSolver.scaled_residual`, in
+            solution units) is below ``floor_rtol max|x|``; a VI solution only if
+            its natural residual ``|x - P(x - F)|`` passes the same test.
         monitor: Print the residual at every Newton step (rank 0).
         error_on_failure: Raise :class:`SolverError` when SNES does not converge.
     """
@@ -342,7 +342,10 @@ class NonlinearSolver:
         if self.options.stol > 0:
             dx = snes.getSolutionUpdate().norm(PETSc.NormType.NORM_INFINITY)
             x = snes.getSolution().norm(PETSc.NormType.NORM_INFINITY)
-            if dx <= self.options.stol * max(x, 1e-300) and fnorm <= self._floor:
+            if dx <= self.options.stol * max(x, 1e-300) and (
+                fnorm <= self._floor
+                or self.scaled_residual(snes.getFunction()[0]) <= self.options.floor_rtol * max(x, 1e-300)
+            ):
                 return R.CONVERGED_SNORM_RELATIVE
         if it >= snes.getTolerances()[3]:
             return R.DIVERGED_MAX_IT
@@ -425,7 +428,17 @@ class NonlinearSolver:
             np.clip(arr, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True), out=arr)
             del arr
         t0 = time.perf_counter()
-        snes.solve(None, self.x)
+        try:
+            snes.solve(None, self.x)
+        except PETSc.Error as e:  # e.g. a factorisation failing on a non-finite matrix
+            self.wall_time = time.perf_counter() - t0
+            self._from_functions(self.x)
+            raise SolverError(
+                f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}): PETSc error {e.ierr} in the "
+                f"linear solve after {snes.getIterationNumber()} Newton steps",
+                where=where,
+                history=self.history,
+            ) from e
         self.wall_time = time.perf_counter() - t0
         self._to_functions(self.x)
         reason = snes.getConvergedReason()
@@ -446,7 +459,12 @@ class NonlinearSolver:
         if self.has_bounds and self._penalty == 0.0:
             self.history.complementarity = self.complementarity()
             tol = self._floor
-            if not np.isfinite(self.history.complementarity) or self.history.complementarity > tol:
+            xinf = self.x.norm(PETSc.NormType.NORM_INFINITY)
+            self._jacobian(snes, self.x, self.A, self.A)  # the diagonal at the solution
+            ok = self.history.complementarity <= tol or (
+                self.scaled_residual(self.residual()) <= self.options.floor_rtol * max(xinf, 1e-300)
+            )
+            if not np.isfinite(self.history.complementarity) or not ok:
                 raise SolverError(
                     f"SNES '{self.prefix}' reported {self.history.reason_name} but the "
                     f"complementarity residual is {self.history.complementarity:.3e} > {tol:.3e}",
@@ -521,6 +539,29 @@ class NonlinearSolver:
         self._from_functions(self.x)
         self._residual(self._snes, self.x, self.b)
         return self.b.copy()
+
+    def scaled_residual(self, F: PETSc.Vec) -> float:
+        """``max_i |x_i - clip(x_i - F_i / J_ii, l_i, u_i)|``: the residual in solution units.
+
+        Dividing each row by the Jacobian diagonal (the last one assembled) turns
+        the residual into a Jacobi correction, whose round-off level is about
+        ``eps |x|`` whatever the mesh size (the 2-norm of the raw residual grows
+        with the number of dofs and the conditioning).  Rows with a zero diagonal
+        (saddle-point pressure rows with ``1/K = 0``) are left out.
+        """
+        self.A.getDiagonal(self._diag)
+        d = np.abs(self._diag.getArray(readonly=True))
+        xa = self.x.getArray(readonly=True)
+        fa = F.getArray(readonly=True)
+        keep = d > 0
+        step = np.zeros_like(xa)
+        step[keep] = fa[keep] / d[keep]
+        if self.has_bounds:
+            r = xa - np.clip(xa - step, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True))
+        else:
+            r = step
+        local = float(np.abs(r).max(initial=0.0))
+        return float(self.comm.allreduce(local, op=_mpi_max()))
 
     def complementarity(self) -> float:
         """2-norm of the natural residual ``x - clip(x - F(x), lower, upper)``.
