@@ -18,10 +18,10 @@ from mpi4py import MPI
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from demos.reynolds_1d import solve  # noqa: E402
-from dolfinx_seal.mpi import bcast_path, print0  # noqa: E402
-from dolfinx_seal.output import SweepWriter  # noqa: E402
-from dolfinx_seal.verification.martin import martin_solution  # noqa: E402
+from demos.reynolds_1d import solve
+from dolfinx_seal.mpi import bcast_path, print0
+from dolfinx_seal.output import SweepWriter
+from dolfinx_seal.verification.martin import martin_solution
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -35,7 +35,9 @@ def main(argv: list[str] | None = None) -> None:
     ref = martin_solution(10.0)
     w = SweepWriter(out, "reynolds_scaling.csv")
     print0(f"ranks: {MPI.COMM_WORLD.size}")
-    print0("| cells | strategy | Newton steps (finest) | all levels | wall time [s] | X_c error | W rel. error | converged |")
+    print0(
+        "| cells | strategy | Newton steps (finest) | all levels | wall time [s] | X_c error | W rel. error | converged |"
+    )
     print0("|---:|---|---:|---:|---:|---:|---:|---|")
     for n in args.sizes:
         for s in args.strategies:

@@ -29,6 +29,9 @@ from dolfinx_seal.output import SweepWriter, write_results
 REGISTRY: dict[str, str] = {
     "rubber-friction": "dolfinx_seal.scenes.rubber_friction",
     "flat": "dolfinx_seal.scenes.flat",
+    "cylinder": "dolfinx_seal.scenes.cylinder",
+    "ball": "dolfinx_seal.scenes.ball",
+    "lip-install": "dolfinx_seal.scenes.lip_install",
 }
 
 #: A point callback of a sweep: receives the sweep value and the results of the point.

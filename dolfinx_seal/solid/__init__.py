@@ -1,0 +1,1 @@
+"""The rubber bulk: materials, kinematics, boundary tractions, the contact problem."""

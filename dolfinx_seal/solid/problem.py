@@ -1,0 +1,442 @@
+"""The rubber body in contact with a rigid counter-surface: forms, control, stepping.
+
+:class:`SolidContactProblem` assembles, from named pieces,
+
+    R(w; v) = int d psi(F(u), p_mix) w dx                (strain energy, kinematics weight w)
+            + int p_cont(gap) J F^-T N . v w dA           (asperity pressure, Nanson follower load)
+            [+ further boundary terms added by a scene, e.g. the fluid film]
+
+with the unknowns
+
+* ``u`` (vector P2 by default) and, for the mixed (nearly incompressible)
+  formulation, the pressure ``p_mix`` (P1): Taylor-Hood;
+* under force control, the rigid position of the counter-surface (a global real
+  unknown, scifem) with the equation ``contact force = F_N``; under
+  displacement control that position is a prescribed constant.
+
+It is solved by :class:`~dolfinx_seal.solvers.NonlinearSolver` (blocked when
+force-controlled) with adaptive load stepping (:meth:`SolidContactProblem.ramp`):
+the load (or position) fraction grows after easy steps and is cut after a
+failed one, restoring the last converged state.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import basix.ufl
+import dolfinx
+import numpy as np
+import scifem
+import ufl
+from mpi4py import MPI
+
+from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.mpi import get_logger
+from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
+from dolfinx_seal.solid import tractions
+from dolfinx_seal.solid.asperity import contact_pressure
+from dolfinx_seal.solid.materials import LinearElastic
+from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+
+
+@dataclass
+class Dirichlet:
+    """A displacement condition on a tagged boundary.
+
+    Attributes:
+        tag: Facet tag.
+        component: Displacement component (``None``: all components).
+        value: Prescribed displacement [m].
+    """
+
+    tag: int
+    component: int | None = None
+    value: float = 0.0
+
+
+@dataclass
+class SteppingOptions:
+    """Adaptive load stepping (the single source of its defaults).
+
+    Attributes:
+        first: First load fraction.
+        grow: Factor on the increment after a step of at most ``easy`` Newton steps.
+        easy: Newton steps counted as an easy step.
+        cut: Factor on the increment after a failed step.
+        min_increment: Smallest increment before giving up.
+        max_steps: Largest number of load steps.
+    """
+
+    first: float = 0.25
+    grow: float = 2.0
+    easy: int = 6
+    cut: float = 0.5
+    min_increment: float = 1e-4
+    max_steps: int = 200
+
+    def __post_init__(self) -> None:
+        check_range("first", self.first, 0.0, 1.0, lo_open=True)
+        check_range("grow", self.grow, 1.0, 10.0)
+        check_range("cut", self.cut, 0.0, 1.0, lo_open=True, hi_open=True)
+        check_positive("min_increment", self.min_increment)
+        check_int_range("easy", self.easy, 1)
+        check_int_range("max_steps", self.max_steps, 1)
+
+
+@dataclass
+class StepRecord:
+    """One accepted load step."""
+
+    fraction: float
+    newton_iterations: int
+    wall_time_s: float
+
+
+class SolidContactProblem:
+    """Rubber body + rigid counter-surface (+ optional extra boundary terms).
+
+    Args:
+        mesh, facet_tags: The body and its tagged boundary.
+        kinematics: :mod:`~dolfinx_seal.solid.kinematics` object.
+        material: :mod:`~dolfinx_seal.solid.materials` object.
+        counter: :class:`~dolfinx_seal.solid.counter_surface.Flat` or ``Shaft``.
+        law: Contact law with a UFL form (see :func:`~dolfinx_seal.solid.asperity.contact_pressure`).
+        contact_tag: Facet tag of the surface that may touch.
+        dirichlet: Displacement conditions.
+        control: ``"force"`` (counter position unknown, ``target`` = normal force
+            [N, or N/m in plane strain]) or ``"position"`` (``target`` = final
+            counter position [m]).
+        target: See ``control``.
+        position0: Counter position at zero load [m] (the touching position).
+        degree: Displacement degree (the mixed pressure is one lower).
+        snes: Newton options.
+        extra_residual: Optional ``f(problem) -> ufl.Form`` added to the displacement residual.
+        max_step: Largest displacement change of one Newton step [m] (a pre-check
+            scales longer steps down), so that a step driven by the stiff contact
+            law cannot invert elements; None: no limit.
+    """
+
+    def __init__(
+        self,
+        mesh: dolfinx.mesh.Mesh,
+        facet_tags: dolfinx.mesh.MeshTags,
+        kinematics: Any,
+        material: Any,
+        counter: Any,
+        law: Any,
+        contact_tag: int,
+        dirichlet: Sequence[Dirichlet],
+        control: str = "force",
+        target: float = 1.0,
+        position0: float = 0.0,
+        degree: int = 2,
+        snes: SNESOptions | None = None,
+        extra_residual: Callable[[SolidContactProblem], Any] | None = None,
+        max_step: float | None = None,
+        name: str = "solid",
+    ) -> None:
+        check_choice("control", control, ("force", "position"))
+        check_int_range("degree", degree, 1, 3)
+        if control == "force":
+            check_positive("target (normal load)", target)
+        if material.mixed and degree < 2:
+            raise ParameterError("the mixed formulation needs degree >= 2 (Taylor-Hood)")
+        self.mesh, self.facet_tags = mesh, facet_tags
+        self.kin, self.material, self.counter, self.law = kinematics, material, counter, law
+        self.control, self.target, self.name = control, float(target), name
+        self.contact_tag = contact_tag
+        gdim = mesh.geometry.dim
+        cell = mesh.basix_cell()
+        Ve = basix.ufl.element("Lagrange", cell, degree, shape=(gdim,))
+        if material.mixed:
+            Qe = basix.ufl.element("Lagrange", cell, degree - 1)
+            self.W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([Ve, Qe]))
+        else:
+            self.W = dolfinx.fem.functionspace(mesh, Ve)
+        self.w = dolfinx.fem.Function(self.W, name="state")
+        vw = ufl.TestFunction(self.W)
+        if material.mixed:
+            self.u, self.p_mix = ufl.split(self.w)
+            v, _ = ufl.split(vw)
+        else:
+            self.u, self.p_mix = self.w, None
+            v = vw
+        X = ufl.SpatialCoordinate(mesh)
+        self.X = X
+        self.x = X + self.u  # current position
+        self.weight = kinematics.weight(X)
+        self.F = kinematics.F(self.u)
+        self.N3 = kinematics.vector3(ufl.FacetNormal(mesh))
+        self.v3 = kinematics.vector3(v)
+        self.e_n = counter.normal(gdim)
+        self.dx = ufl.Measure("dx", domain=mesh)
+        self.ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        self.ds_c = self.ds(contact_tag)
+
+        # counter-surface position: a real unknown (force control) or a constant
+        self.position0 = float(position0)
+        if control == "force":
+            self.R = scifem.create_real_functionspace(mesh)
+            self.position = dolfinx.fem.Function(self.R, name="position")
+            self.position.x.array[:] = position0
+            self.load = dolfinx.fem.Constant(mesh, 0.0)
+        else:
+            self.position = dolfinx.fem.Constant(mesh, float(position0))
+            self.load = None
+
+        self.gap = counter.gap(self.x, self.position)
+        self.p_cont = contact_pressure(law, self.gap)
+
+        # residual of the body
+        if isinstance(material, LinearElastic):
+            energy = material.small_strain_energy(kinematics.eps(self.u), self.p_mix)
+        else:
+            energy = material.strain_energy(self.F, self.p_mix)
+        R_w = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
+        R_w += -tractions.pressure_work(
+            self.p_cont, self.F, self.N3, self.v3, self.weight, self.ds_c
+        )
+        self.extra = extra_residual(self) if extra_residual is not None else None
+        if self.extra is not None:
+            R_w += self.extra
+
+        self.bcs = self._dirichlet(dirichlet)
+        # contact force on the body along the counter normal (N, or N/m)
+        self.force_form = tractions.normal_force(
+            self.p_cont, self.F, self.N3, self.e_n, self.weight, self.ds_c
+        )
+        opts = snes or SNESOptions(max_it=30)
+        limiter = self._step_limiter(max_step) if max_step else None
+        if control == "force":
+            mu = ufl.TestFunction(self.R)
+            vol = mesh.comm.allreduce(
+                dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * self.dx)), op=MPI.SUM
+            )
+            f_n = -self.p_cont * ufl.dot(tractions.nanson_normal(self.F, self.N3), self.e_n)
+            R_r = f_n * self.weight * mu * self.ds_c - self.load / vol * mu * self.dx
+            self.solver = NonlinearSolver(
+                [R_w, R_r], [self.w, self.position], self.bcs, options=opts, name=name,
+                step_limiter=limiter,
+            )  # fmt: skip
+        else:
+            self.solver = NonlinearSolver(
+                R_w, self.w, self.bcs, options=opts, name=name, step_limiter=limiter
+            )
+        self.steps: list[StepRecord] = []
+        self._force_compiled = dolfinx.fem.form(self.force_form)
+
+    # ---------------------------------------------------------------- set-up
+    def _dirichlet(self, conds: Sequence[Dirichlet]) -> list[dolfinx.fem.DirichletBC]:
+        fdim = self.mesh.topology.dim - 1
+        Vu = self.W.sub(0) if self.material.mixed else self.W
+        bcs = []
+        for c in conds:
+            facets = self.facet_tags.find(c.tag)
+            if c.component is None and not self.material.mixed:  # the whole space
+                dofs = dolfinx.fem.locate_dofs_topological(Vu, fdim, facets)
+                value = np.full(self.mesh.geometry.dim, c.value, dtype=dolfinx.default_scalar_type)
+                bcs.append(dolfinx.fem.dirichletbc(value, dofs, Vu))
+                continue
+            sub = Vu if c.component is None else Vu.sub(c.component)
+            collapsed, _ = sub.collapse()
+            dofs = dolfinx.fem.locate_dofs_topological((sub, collapsed), fdim, facets)
+            g = dolfinx.fem.Function(collapsed)
+            g.x.array[:] = c.value
+            bcs.append(dolfinx.fem.dirichletbc(g, dofs, sub))
+        return bcs
+
+    def _step_limiter(self, max_step: float) -> Callable[[np.ndarray, np.ndarray], float]:
+        """Pre-check scaling a Newton step so that no displacement dof moves more than ``max_step``.
+
+        The displacement dofs come first in the (block) vector, so their local
+        indices are those of the collapsed displacement sub-space (owned part).
+        """
+        check_positive("max_step", max_step, "m")
+        if self.material.mixed:
+            _, dofs = self.W.sub(0).collapse()
+            dofs = np.asarray(dofs)
+        else:
+            dofs = np.arange(self.W.dofmap.index_map.size_local * self.W.dofmap.index_map_bs)
+        n_own = self.W.dofmap.index_map.size_local * self.W.dofmap.index_map_bs
+        dofs = dofs[dofs < n_own]
+
+        def limit(x: np.ndarray, dx: np.ndarray) -> float:
+            big = float(np.abs(dx[dofs]).max(initial=0.0))
+            return 1.0 if big <= max_step else max_step / big
+
+        return limit
+
+    @property
+    def dofs(self) -> int:
+        """Global number of unknowns."""
+        im = self.W.dofmap.index_map
+        return int(im.size_global * self.W.dofmap.index_map_bs) + (
+            1 if self.control == "force" else 0
+        )
+
+    # ---------------------------------------------------------------- solving
+    def set_fraction(self, t: float) -> None:
+        """Set the load (force control) or the counter position (position control) fraction."""
+        if self.control == "force":
+            self.load.value = t * self.target
+        else:
+            self.position.value = self.position0 + t * (self.target - self.position0)
+
+    def _state(self) -> tuple[np.ndarray, np.ndarray | None]:
+        pos = self.position.x.array.copy() if self.control == "force" else None
+        return self.w.x.array.copy(), pos
+
+    def _restore(self, state: tuple[np.ndarray, np.ndarray | None]) -> None:
+        self.w.x.array[:] = state[0]
+        if state[1] is not None:
+            self.position.x.array[:] = state[1]
+
+    def solve_at(self, t: float, where: str = "") -> int:
+        """Newton solve at load fraction ``t`` from the current state; returns Newton steps."""
+        self.set_fraction(t)
+        hist = self.solver.solve(where=where or f"{self.name} at load fraction {t:.4g}")
+        return hist.newton_iterations
+
+    def ramp(
+        self,
+        stepping: SteppingOptions | None = None,
+        t_start: float = 0.0,
+        t_end: float = 1.0,
+        on_step: Callable[[float], None] | None = None,
+    ) -> list[StepRecord]:
+        """Adaptive stepping of the load fraction from ``t_start`` to ``t_end``.
+
+        Raises:
+            SolverError: the increment fell below ``min_increment``; ``partial``
+                holds the last converged fraction (the state is left there).
+        """
+        st = stepping or SteppingOptions()
+        log = get_logger()
+        t = t_start
+        dt = min(st.first, t_end - t_start)
+        for _ in range(st.max_steps):
+            if t >= t_end - 1e-14:
+                return self.steps
+            t_try = min(t + dt, t_end)
+            saved = self._state()
+            t0 = time.perf_counter()
+            try:
+                its = self.solve_at(t_try)
+            except SolverError as e:
+                self._restore(saved)
+                dt *= st.cut
+                log.info(
+                    "%s: step to %.4g failed (%s); increment cut to %.3g",
+                    self.name,
+                    t_try,
+                    e.what,
+                    dt,
+                )
+                if dt < st.min_increment:
+                    self.set_fraction(t)
+                    raise SolverError(
+                        f"load stepping stalled: increment {dt:.2e} below {st.min_increment:.1e}",
+                        where=f"{self.name}, from load fraction {t:.6g}",
+                        history=e.history,
+                        partial={"fraction": t, "steps": list(self.steps)},
+                    ) from e
+                continue
+            self.steps.append(StepRecord(t_try, its, time.perf_counter() - t0))
+            t = t_try
+            if on_step is not None:
+                on_step(t)
+            if its <= st.easy:
+                dt *= st.grow
+        raise SolverError(f"more than {st.max_steps} load steps", where=self.name)
+
+    def warm_start(self, pressure_guess: Any, peak_separation: float) -> int:
+        """Start from the deformation under a guessed contact pressure (e.g. Hertz).
+
+        Solves the body with the contact term replaced by the prescribed pressure
+        ``pressure_guess`` (a UFL expression of the reference coordinates, acting
+        on the current surface), then places the counter-surface so that the
+        lowest surface point has the gap ``peak_separation`` (the law's
+        separation at the guessed peak pressure).  A
+        stiff contact law then starts within a fraction of ``h_rms`` of its
+        solution instead of from a point contact.  Returns the Newton steps.
+        """
+        vw = ufl.TestFunction(self.W)
+        v = ufl.split(vw)[0] if self.material.mixed else vw
+        v3 = self.kin.vector3(v)
+        if isinstance(self.material, LinearElastic):
+            energy = self.material.small_strain_energy(self.kin.eps(self.u), self.p_mix)
+        else:
+            energy = self.material.strain_energy(self.F, self.p_mix)
+        R = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
+        R += -tractions.pressure_work(pressure_guess, self.F, self.N3, v3, self.weight, self.ds_c)
+        pre = NonlinearSolver(
+            R, self.w, self.bcs, options=self.solver.options, name=f"{self.name} warm start"
+        )
+        hist = pre.solve()
+        pre.destroy()
+        xn = self.counter.gap(self.x, 0.0)  # coordinate of the current surface along the normal
+        _, vals = self.surface_values(xn)
+        lowest = float(vals.min())
+        if self.control == "force":
+            self.position.x.array[:] = lowest - peak_separation
+        return hist.newton_iterations
+
+    # ---------------------------------------------------------------- results
+    def contact_force(self) -> float:
+        """Total contact force on the body along the counter normal [N or N/m]."""
+        return self.mesh.comm.allreduce(
+            dolfinx.fem.assemble_scalar(self._force_compiled), op=MPI.SUM
+        )
+
+    def integrate(self, expr: Any, measure: Any) -> float:
+        """Global integral of a UFL expression."""
+        return self.mesh.comm.allreduce(
+            dolfinx.fem.assemble_scalar(dolfinx.fem.form(expr * measure)), op=MPI.SUM
+        )
+
+    def counter_position(self) -> float:
+        """Current counter-surface position [m]."""
+        if self.control == "force":
+            return float(self.mesh.comm.allreduce(
+                float(self.position.x.array[0]) if self.position.x.array.size else -np.inf, op=MPI.MAX))  # fmt: skip
+        return float(self.position.value)
+
+    def surface_values(self, expr: Any, tag: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Reference coordinates and values of ``expr`` at the dofs of the (contact) surface.
+
+        Gathered on every rank, sorted by the first coordinate; the expression is
+        interpolated into the scalar Lagrange space of the displacement degree.
+        """
+        tag = self.contact_tag if tag is None else tag
+        deg = (
+            self.W.sub(0).ufl_element().degree
+            if self.material.mixed
+            else self.W.ufl_element().degree
+        )
+        S = dolfinx.fem.functionspace(self.mesh, ("Lagrange", deg))
+        f = dolfinx.fem.Function(S)
+        f.interpolate(dolfinx.fem.Expression(expr, _interp_points(S)))
+        fdim = self.mesh.topology.dim - 1
+        dofs = dolfinx.fem.locate_dofs_topological(S, fdim, self.facet_tags.find(tag))
+        nown = S.dofmap.index_map.size_local
+        dofs = dofs[dofs < nown]
+        X = S.tabulate_dof_coordinates()[dofs]
+        vals = f.x.array[dofs]
+        comm = self.mesh.comm
+        Xa = np.concatenate(comm.allgather(X)) if comm.size > 1 else X
+        va = np.concatenate(comm.allgather(vals)) if comm.size > 1 else vals
+        order = np.lexsort(Xa.T[::-1])
+        return Xa[order], va[order]
+
+
+def _interp_points(V: Any) -> Any:
+    from dolfinx_seal.compat import interpolation_points
+
+    return interpolation_points(V.element)
+
+
+__all__ = ["Dirichlet", "SolidContactProblem", "StepRecord", "SteppingOptions"]
