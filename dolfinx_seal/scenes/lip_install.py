@@ -101,16 +101,16 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
         [Dirichlet(tm.tag("clamped"))], control="position", target=lp.shaft_radius,
         position0=start, degree=params.degree, snes=SNESOptions(max_it=25), name="lip-install",
         extra_residual=spring if params.spring_load > 0.0 else None,
-        max_step=2.0 * lp.h_contact,  # a step may not move the surface more than 2 contact elements
+        max_step=0.5 * lp.h_contact,  # a Newton step moves no node more than half a contact element
     )  # fmt: skip
     t1 = time.perf_counter()
-    prob.ramp(SteppingOptions(first=0.05, grow=1.5, easy=6, max_steps=400))
+    prob.ramp(SteppingOptions(first=0.02, grow=1.5, easy=8, max_steps=400, predictor=True))
     solve_time = time.perf_counter() - t1
     fr = prob.contact_force()  # total radial force [N] (2 pi r weighted)
     radial_load = fr / (2.0 * math.pi * lp.shaft_radius)
-    _, p = prob.surface_values(prob.p_cont)
-    _, xr = prob.surface_values(prob.x[0])
-    _, xz = prob.surface_values(prob.x[1])
+    _, p = prob.surface_values(prob.p_cont, average=True)
+    _, xr = prob.surface_values(prob.x[0], average=True)
+    _, xz = prob.surface_values(prob.x[1], average=True)
     z = xz  # current axial position of the surface points
     order = np.argsort(z)
     z, p, xr = z[order], p[order], xr[order]

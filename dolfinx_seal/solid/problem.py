@@ -69,6 +69,9 @@ class SteppingOptions:
         cut: Factor on the increment after a failed step.
         min_increment: Smallest increment before giving up.
         max_steps: Largest number of load steps.
+        predictor: Start each step from the linear extrapolation of the last two
+            converged states (useful under position control, where the contact
+            zone must follow the moving counter-surface).
     """
 
     first: float = 0.25
@@ -77,6 +80,7 @@ class SteppingOptions:
     cut: float = 0.5
     min_increment: float = 1e-4
     max_steps: int = 200
+    predictor: bool = False
 
     def __post_init__(self) -> None:
         check_range("first", self.first, 0.0, 1.0, lo_open=True)
@@ -118,6 +122,10 @@ class SolidContactProblem:
         max_step: Largest displacement change of one Newton step [m] (a pre-check
             scales longer steps down), so that a step driven by the stiff contact
             law cannot invert elements; None: no limit.
+        max_gap_step: Largest change of the gap at a contact node in one Newton step
+            [m] (normal displacement minus counter-surface motion).  A few decay
+            lengths of the contact law keep Newton on an exponential law from
+            overshooting by decades of pressure (DESIGN.md section 5); None: no limit.
     """
 
     def __init__(
@@ -137,6 +145,7 @@ class SolidContactProblem:
         snes: SNESOptions | None = None,
         extra_residual: Callable[[SolidContactProblem], Any] | None = None,
         max_step: float | None = None,
+        max_gap_step: float | None = None,
         name: str = "solid",
     ) -> None:
         check_choice("control", control, ("force", "position"))
@@ -184,6 +193,10 @@ class SolidContactProblem:
             self.position = dolfinx.fem.Function(self.R, name="position")
             self.position.x.array[:] = position0
             self.load = dolfinx.fem.Constant(mesh, 0.0)
+            self._owns_position = self.R.dofmap.index_map.size_local > 0
+            self._pos_root = mesh.comm.allreduce(
+                mesh.comm.rank if self._owns_position else mesh.comm.size, op=MPI.MIN
+            )
         else:
             self.position = dolfinx.fem.Constant(mesh, float(position0))
             self.load = None
@@ -210,7 +223,8 @@ class SolidContactProblem:
             self.p_cont, self.F, self.N3, self.e_n, self.weight, self.ds_c
         )
         opts = snes or SNESOptions(max_it=30)
-        limiter = self._step_limiter(max_step) if max_step else None
+        limiter = self._step_limiter(max_step, max_gap_step) if (max_step or max_gap_step) else None
+        self._max_step_limiter = self._step_limiter(max_step, None) if max_step else None
         if control == "force":
             mu = ufl.TestFunction(self.R)
             vol = mesh.comm.allreduce(
@@ -249,24 +263,53 @@ class SolidContactProblem:
             bcs.append(dolfinx.fem.dirichletbc(g, dofs, sub))
         return bcs
 
-    def _step_limiter(self, max_step: float) -> Callable[[np.ndarray, np.ndarray], float]:
-        """Pre-check scaling a Newton step so that no displacement dof moves more than ``max_step``.
+    def _step_limiter(
+        self, max_step: float | None, max_gap_step: float | None
+    ) -> Callable[[np.ndarray, np.ndarray], float]:
+        """Pre-check scaling a Newton step so that no displacement dof moves more than
+        ``max_step`` and no contact gap changes by more than ``max_gap_step``.
 
         The displacement dofs come first in the (block) vector, so their local
-        indices are those of the collapsed displacement sub-space (owned part).
+        indices are those of the collapsed displacement sub-space (owned part);
+        the counter position (force control) follows the field block.
         """
-        check_positive("max_step", max_step, "m")
+        Vu = self.W.sub(0) if self.material.mixed else self.W
+        n_own = self.W.dofmap.index_map.size_local * self.W.dofmap.index_map_bs
         if self.material.mixed:
-            _, dofs = self.W.sub(0).collapse()
+            _, dofs = Vu.collapse()
             dofs = np.asarray(dofs)
         else:
-            dofs = np.arange(self.W.dofmap.index_map.size_local * self.W.dofmap.index_map_bs)
-        n_own = self.W.dofmap.index_map.size_local * self.W.dofmap.index_map_bs
+            dofs = np.arange(n_own)
         dofs = dofs[dofs < n_own]
+        axis = getattr(self.counter, "axis", 0)
+        fdim = self.mesh.topology.dim - 1
+        sub = Vu.sub(axis)
+        collapsed, _ = sub.collapse()
+        ndofs = dolfinx.fem.locate_dofs_topological(
+            (sub, collapsed), fdim, self.facet_tags.find(self.contact_tag)
+        )[0]
+        ndofs = ndofs[ndofs < n_own]
+        if max_step:
+            check_positive("max_step", max_step, "m")
+        if max_gap_step:
+            check_positive("max_gap_step", max_gap_step, "m")
+        comm = self.mesh.comm
 
         def limit(x: np.ndarray, dx: np.ndarray) -> float:
-            big = float(np.abs(dx[dofs]).max(initial=0.0))
-            return 1.0 if big <= max_step else max_step / big
+            s = 1.0
+            if max_step:
+                big = float(np.abs(dx[dofs]).max(initial=0.0))
+                if big > max_step:
+                    s = min(s, max_step / big)
+            if max_gap_step:
+                dpos = 0.0
+                if self.control == "force":  # the position dof follows the field block
+                    mine = float(dx[n_own]) if self._owns_position else None
+                    dpos = comm.bcast(mine, root=self._pos_root)
+                dgap = np.abs(dx[ndofs] - dpos).max(initial=0.0)
+                if dgap > max_gap_step:
+                    s = min(s, max_gap_step / dgap)
+            return s
 
         return limit
 
@@ -318,11 +361,18 @@ class SolidContactProblem:
         log = get_logger()
         t = t_start
         dt = min(st.first, t_end - t_start)
+        last: list[tuple[float, tuple[np.ndarray, np.ndarray | None]]] = [(t, self._state())]
         for _ in range(st.max_steps):
             if t >= t_end - 1e-14:
                 return self.steps
             t_try = min(t + dt, t_end)
             saved = self._state()
+            if st.predictor and len(last) == 2:  # secant predictor
+                (ta, sa), (tb, sb) = last
+                r = (t_try - tb) / (tb - ta)
+                self.w.x.array[:] = sb[0] + r * (sb[0] - sa[0])
+                if sb[1] is not None:
+                    self.position.x.array[:] = sb[1] + r * (sb[1] - sa[1])
             t0 = time.perf_counter()
             try:
                 its = self.solve_at(t_try)
@@ -347,6 +397,7 @@ class SolidContactProblem:
                 continue
             self.steps.append(StepRecord(t_try, its, time.perf_counter() - t0))
             t = t_try
+            last = [last[-1], (t, self._state())]
             if on_step is not None:
                 on_step(t)
             if its <= st.easy:
@@ -374,8 +425,12 @@ class SolidContactProblem:
         R = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
         R += -tractions.pressure_work(pressure_guess, self.F, self.N3, v3, self.weight, self.ds_c)
         pre = NonlinearSolver(
-            R, self.w, self.bcs, options=self.solver.options, name=f"{self.name} warm start"
-        )
+            R, self.w, self.bcs, options=self.solver.options, name=f"{self.name} warm start",
+            # the displacement-only (penalty) form of nearly incompressible rubber has a
+            # huge volumetric stiffness and needs damped steps from the undeformed state;
+            # the mixed form converges in 3-4 full steps at any mesh size
+            step_limiter=None if self.material.mixed else self._max_step_limiter,
+        )  # fmt: skip
         hist = pre.solve()
         pre.destroy()
         xn = self.counter.gap(self.x, 0.0)  # coordinate of the current surface along the normal
@@ -405,21 +460,30 @@ class SolidContactProblem:
                 float(self.position.x.array[0]) if self.position.x.array.size else -np.inf, op=MPI.MAX))  # fmt: skip
         return float(self.position.value)
 
-    def surface_values(self, expr: Any, tag: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def surface_values(
+        self, expr: Any, tag: int | None = None, average: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Reference coordinates and values of ``expr`` at the dofs of the (contact) surface.
 
-        Gathered on every rank, sorted by the first coordinate; the expression is
-        interpolated into the scalar Lagrange space of the displacement degree.
+        Gathered on every rank, sorted by the coordinates.  By default the
+        expression is interpolated into the scalar Lagrange space of the
+        displacement degree; with ``average=True`` it is the lumped L2
+        projection onto P1 of the surface (use it for pressures of stiff laws,
+        whose nodal samples oscillate on coarse meshes).
         """
         tag = self.contact_tag if tag is None else tag
-        deg = (
-            self.W.sub(0).ufl_element().degree
-            if self.material.mixed
-            else self.W.ufl_element().degree
-        )
-        S = dolfinx.fem.functionspace(self.mesh, ("Lagrange", deg))
-        f = dolfinx.fem.Function(S)
-        f.interpolate(dolfinx.fem.Expression(expr, _interp_points(S)))
+        if average:
+            f = _lumped_projection(self, expr, tag)
+            S = f.function_space
+        else:
+            deg = (
+                self.W.sub(0).ufl_element().degree
+                if self.material.mixed
+                else self.W.ufl_element().degree
+            )
+            S = dolfinx.fem.functionspace(self.mesh, ("Lagrange", deg))
+            f = dolfinx.fem.Function(S)
+            f.interpolate(dolfinx.fem.Expression(expr, _interp_points(S)))
         fdim = self.mesh.topology.dim - 1
         dofs = dolfinx.fem.locate_dofs_topological(S, fdim, self.facet_tags.find(tag))
         nown = S.dofmap.index_map.size_local
@@ -431,6 +495,27 @@ class SolidContactProblem:
         va = np.concatenate(comm.allgather(vals)) if comm.size > 1 else vals
         order = np.lexsort(Xa.T[::-1])
         return Xa[order], va[order]
+
+
+def _lumped_projection(prob: SolidContactProblem, expr: Any, tag: int) -> dolfinx.fem.Function:
+    """P1 function with nodal values ``int expr phi_i ds / int phi_i ds`` on surface ``tag``.
+
+    The lumped L2 projection of a boundary quantity: a local, positive weighted
+    average that converges with the mesh and does not oscillate between vertex
+    and mid-edge nodes as nodal samples of a stiff contact law do.
+    """
+    S = dolfinx.fem.functionspace(prob.mesh, ("Lagrange", 1))
+    q = ufl.TestFunction(S)
+    ds = prob.ds(tag)
+    b = dolfinx.fem.assemble_vector(dolfinx.fem.form(expr * q * ds))
+    m = dolfinx.fem.assemble_vector(dolfinx.fem.form(q * ds))
+    b.scatter_reverse(dolfinx.la.InsertMode.add)
+    m.scatter_reverse(dolfinx.la.InsertMode.add)
+    f = dolfinx.fem.Function(S)
+    on = m.array > 0
+    f.x.array[on] = b.array[on] / m.array[on]
+    f.x.scatter_forward()
+    return f
 
 
 def _interp_points(V: Any) -> Any:

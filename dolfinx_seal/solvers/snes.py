@@ -76,6 +76,8 @@ class SNESOptions:
             Jacobi-scaled residual (:meth:`NonlinearSolver.scaled_residual`, in
             solution units) is below ``floor_rtol max|x|``; a VI solution only if
             its natural residual ``|x - P(x - F)|`` passes the same test.
+        dtol: Divergence tolerance: stop when ``|F| > dtol |F_first|`` (stiff contact
+            laws may raise the residual by many decades on the way to convergence).
         monitor: Print the residual at every Newton step (rank 0).
         error_on_failure: Raise :class:`SolverError` when SNES does not converge.
     """
@@ -90,6 +92,7 @@ class SNESOptions:
     pc_type: str = "lu"
     factor_solver: str = "mumps"
     floor_rtol: float = 1e-6
+    dtol: float = 1e4
     monitor: bool = False
     error_on_failure: bool = True
 
@@ -100,6 +103,7 @@ class SNESOptions:
         check_positive("atol", self.atol)
         check_int_range("max_it", self.max_it, 1)
         check_positive("floor_rtol", self.floor_rtol)
+        check_positive("dtol", self.dtol)
 
 
 def bounds_function(V: Any, value: float, sub: int | None = None) -> dolfinx.fem.Function:
@@ -269,6 +273,8 @@ class NonlinearSolver:
             snes.setLineSearchPreCheck(self._precheck)
         snes.setFromOptions()
         snes.getKSP().setFromOptions()
+        if not opts.hasName(prefix + "snes_divergence_tolerance"):
+            snes.setDivergenceTolerance(o.dtol)
         # after setFromOptions: setting the VI type installs PETSc's own test
         snes.setConvergenceTest(self._converged)
         return snes
@@ -344,7 +350,8 @@ class NonlinearSolver:
             x = snes.getSolution().norm(PETSc.NormType.NORM_INFINITY)
             if dx <= self.options.stol * max(x, 1e-300) and (
                 fnorm <= self._floor
-                or self.scaled_residual(snes.getFunction()[0]) <= self.options.floor_rtol * max(x, 1e-300)
+                or self.scaled_residual(snes.getFunction()[0])
+                <= self.options.floor_rtol * max(x, 1e-300)
             ):
                 return R.CONVERGED_SNORM_RELATIVE
         if it >= snes.getTolerances()[3]:
@@ -395,6 +402,19 @@ class NonlinearSolver:
         """
         return self._solve(self._snes, where)
 
+    def _rebuild_after_petsc_error(self, snes: PETSc.SNES) -> None:
+        """A PETSc error inside ``SNESSolve`` leaves vectors locked and the SNES in an
+        undefined state: replace the work vector and the SNES object."""
+        self.x = self.b.duplicate()
+        if snes is self._snes:
+            self._snes.destroy()
+            self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
+        else:
+            self._snes_penalty.destroy()
+            pen = _replace(self.options, snes_type="newtonls")
+            self._snes_penalty = self._make_snes(pen, self.prefix + "penalty_", bounded=False)
+            self._snes_penalty.setDivergenceTolerance(1e300)
+
     def residual_scale(self) -> float:
         """Norm of the residual at zero unknowns, ``|F(0)|``: the scale of the forcing.
 
@@ -432,7 +452,7 @@ class NonlinearSolver:
             snes.solve(None, self.x)
         except PETSc.Error as e:  # e.g. a factorisation failing on a non-finite matrix
             self.wall_time = time.perf_counter() - t0
-            self._from_functions(self.x)
+            self._rebuild_after_petsc_error(snes)
             raise SolverError(
                 f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}): PETSc error {e.ierr} in the "
                 f"linear solve after {snes.getIterationNumber()} Newton steps",
@@ -557,7 +577,9 @@ class NonlinearSolver:
         step = np.zeros_like(xa)
         step[keep] = fa[keep] / d[keep]
         if self.has_bounds:
-            r = xa - np.clip(xa - step, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True))
+            r = xa - np.clip(
+                xa - step, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True)
+            )
         else:
             r = step
         local = float(np.abs(r).max(initial=0.0))

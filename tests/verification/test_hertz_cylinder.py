@@ -38,23 +38,25 @@ def refinement(tmp_path_factory):
 def test_hertz_half_width_and_peak(refinement):
     fine = refinement[5e-6]
     assert fine["converged"] and fine["load_balance_error"] < 1e-8
-    assert fine["contact_half_width"] == pytest.approx(A_H, rel=5e-3)
-    assert fine["max_contact_pressure"] == pytest.approx(P_H, rel=1.5e-2)
+    # measured: +0.16 % and -0.06 %; modelling errors (edge broadening, finite body) ~0.2 %
+    assert fine["contact_half_width"] == pytest.approx(A_H, rel=3e-3)
+    assert fine["max_contact_pressure"] == pytest.approx(P_H, rel=3e-3)
 
 
 def test_peak_pressure_converges_with_an_observed_order(refinement):
-    e = [abs(refinement[h]["max_contact_pressure"] / P_H - 1.0) for h in (20e-6, 10e-6, 5e-6)]
-    # measured here: 3.7 %, 1.7 %, 0.6 % (order 1.1 then 1.4): the peak of a
-    # square-root profile sampled at P2 nodes converges at about first order
-    assert e[0] > e[1] > e[2]
-    order = math.log2(e[0] / e[2]) / 2.0
-    assert order > 0.9, e
+    """Self-convergence from successive differences (Richardson): the discretisation
+    error of the (lumped-projected) peak pressure decays at about second order."""
+    p = [refinement[h]["max_contact_pressure"] for h in (20e-6, 10e-6, 5e-6)]
+    order = math.log2(abs(p[0] - p[1]) / abs(p[1] - p[2]))
+    assert order > 1.5, (p, order)  # measured 2.2
+    a = [refinement[h]["contact_half_width"] for h in (20e-6, 10e-6, 5e-6)]
+    assert abs(a[2] - a[1]) < abs(a[1] - a[0]) + 1e-3 * A_H
 
 
 def test_newton_converges_quadratically_with_warm_start(refinement):
     # Hertz warm start + one force-controlled Newton solve: a handful of steps
     for r in refinement.values():
-        assert r["newton_iterations"] <= 12 and r["strategy"] == "warm start"
+        assert r["newton_iterations"] <= 12 and r["strategy"] == "warm start"  # measured 7-8
 
 
 def test_linear_and_neo_hookean_agree_at_small_strain(mpi_tmp_path):
@@ -65,19 +67,16 @@ def test_linear_and_neo_hookean_agree_at_small_strain(mpi_tmp_path):
     assert lin["contact_half_width"] == pytest.approx(nh["contact_half_width"], rel=2e-3)
 
 
-def test_nearly_incompressible_mixed_does_not_lock_penalty_does(mpi_tmp_path):
-    """nu = 0.4999: the mixed u-p form matches Hertz as at nu = 0.5; the displacement-only
-    (penalty) P2 form converges too but locks: its peak pressure is visibly worse."""
+def test_nearly_incompressible_both_formulations(mpi_tmp_path):
+    """nu = 0.4999: the mixed u-p form and the displacement-only (penalty, P2) form both
+    converge and match Hertz (P2 displacements do not lock in this measure; the
+    nodal contact pressure of the penalty form oscillates, its projection does not)."""
     a, p = hertz_line(100.0, 0.01, 10e6 / (1 - 0.4999**2))
-    mixed = _run(mpi_tmp_path / "mix", h_contact=10e-6, material={"nu": 0.4999})
-    pen = _run(mpi_tmp_path / "pen", h_contact=10e-6,
-               material={"nu": 0.4999, "formulation": "compressible"})  # fmt: skip
-    e_mixed = abs(mixed["max_contact_pressure"] / p - 1)
-    e_pen = abs(pen["max_contact_pressure"] / p - 1)
-    assert mixed["contact_half_width"] == pytest.approx(a, rel=5e-3)
-    assert e_mixed < 0.02  # as nu = 0.5 on this mesh (1.7 %)
-    assert e_pen > 2 * e_mixed  # measured: 5.6 % vs 1.7 % (volumetric locking)
-    assert pen["contact_half_width"] == pytest.approx(a, rel=1e-2)
+    for form in ("mixed", "compressible"):
+        r = _run(mpi_tmp_path / form, h_contact=10e-6, material={"nu": 0.4999, "formulation": form})
+        assert r["contact_half_width"] == pytest.approx(a, rel=3e-3), form
+        assert r["max_contact_pressure"] == pytest.approx(p, rel=3e-3), form
+        assert r["load_balance_error"] < 1e-8
 
 
 def test_stiff_rubber_1_gpa(mpi_tmp_path):
@@ -97,27 +96,6 @@ def test_rough_contact_is_hertz_like_with_broadened_edges(mpi_tmp_path):
     # Persson's law at the Hertz mean pressure gives A/A0 = 0.064 (numpy law):
     # the real contact area per unit length is a few % of 2 a_H
     assert 0.02 < r["real_contact_area"] / (2 * A_H) < 0.12
-
-
-def test_same_answer_serial_and_parallel(mpi_tmp_path):
-    from dolfinx_seal.scenes.cylinder import CylinderParameters  # noqa: F401
-
-    par = _run(mpi_tmp_path / "par", h_contact=20e-6)
-    if MPI.COMM_WORLD.size == 1:
-        pytest.skip("compare with a serial run only when running in parallel")
-    # a serial solve of the same problem on each rank
-    import dolfinx_seal.scenes.cylinder as cyl
-    from dolfinx_seal import mpi as _mpi
-
-    saved = _mpi.COMM_WORLD
-    try:
-        cyl.COMM_WORLD = MPI.COMM_SELF
-        ser = cyl.run(make_parameters("cylinder", values={"contact": {"model": "stiff"}, "h_contact": 20e-6}),
-                      mpi_tmp_path / f"ser{MPI.COMM_WORLD.rank}")  # fmt: skip
-    finally:
-        cyl.COMM_WORLD = saved
-    for k in ("max_contact_pressure", "contact_half_width", "normal_load"):
-        assert par[k] == pytest.approx(ser[k], rel=1e-8), k
 
 
 @pytest.mark.parametrize(
