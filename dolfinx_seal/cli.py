@@ -6,6 +6,8 @@ Sub-commands:
 * ``scenes``             -- the registered scenes and what they compute.
 * ``run SCENE``          -- one point of a scene (``--scene FILE.toml``, ``--set key=value``).
 * ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``).
+* ``study SCENE``        -- error against run time over resolution levels.
+* ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
 
 ``run`` and ``sweep`` appear once scenes are registered.  Unknown arguments
 starting with ``-`` that follow ``--petsc`` are passed to PETSc's options
@@ -58,6 +60,23 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0 if len(rows) == len(values) else 1
 
 
+def _cmd_study(args: argparse.Namespace) -> int:
+    from dolfinx_seal.studies import convergence_study
+
+    p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
+    out = args.out or f"results/{args.scene}-study"
+    values = _scenes.parse_values(args.values)
+    rows = convergence_study(
+        args.scene, p, out, args.over, values, args.quantities.split(","), args.reference
+    )
+    for r in rows:
+        print0(
+            ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in r.items())
+        )
+    print0(f"{out}/study.csv, {out}/error_vs_time.png, {out}/results.json")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and documentation)."""
     parser = argparse.ArgumentParser(prog="dolfinx-seal", description=__doc__.splitlines()[0])
@@ -94,6 +113,19 @@ def build_parser() -> argparse.ArgumentParser:
             help="comma-separated values, or start:stop:n[:log]",
         )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
+
+        sp = sub.add_parser("study", help="error against run time over discretisation levels")
+        common(sp)
+        sp.add_argument("--over", default="h_contact", help="resolution parameter (coarse to fine)")
+        sp.add_argument(
+            "--values", required=True, help="levels, comma-separated or start:stop:n[:log]"
+        )
+        sp.add_argument(
+            "--quantities", default="max_contact_pressure,contact_half_width",
+            help="comma-separated result keys to follow",
+        )  # fmt: skip
+        sp.add_argument("--reference", default="hertz", choices=("hertz", "finest"))
+        sp.set_defaults(func=_cmd_study)
 
     from dolfinx_seal import meshcmd
 

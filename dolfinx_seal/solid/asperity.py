@@ -42,8 +42,12 @@ CAP_FACTOR = 10.0
 
 def _capped_exp(lnp: Any, ln_cap: float) -> Any:
     """``exp(lnp)``, continued linearly (C^1) above ``ln_cap``."""
+    # the exponent is bounded in both branches: generated code may evaluate the
+    # branch not taken, and exp overflowing to inf there turns 0 * inf into NaN
     return ufl.conditional(
-        ufl.lt(lnp, ln_cap), ufl.exp(lnp), math.exp(ln_cap) * (1.0 + lnp - ln_cap)
+        ufl.lt(lnp, ln_cap),
+        ufl.exp(ufl.min_value(lnp, ln_cap)),
+        math.exp(ln_cap) * (1.0 + lnp - ln_cap),
     )
 
 
