@@ -28,6 +28,38 @@ def test_installs_with_adaptive_steps(installed):
     # circumference (ring + cantilever estimate of this geometry: ~15-20 N/m)
     assert 5.0 < res["radial_load"] < 60.0
     assert 0.0 < res["contact_width"] < 0.9e-3  # inside the contact band
+    # the 20 / 10 / 5 um meshes give 27.15 / 27.26 / 27.30 um and 15.667 / 15.683 / 15.685 N/m
+
+
+@pytest.mark.slow
+def test_radial_load_and_width_converge(mpi_tmp_path):
+    from dolfinx_seal.studies import convergence_study
+
+    p = make_parameters("lip-install")
+    rows = convergence_study(
+        "lip-install", p, mpi_tmp_path, "lip.h_contact", [20e-6, 10e-6, 5e-6],
+        ["radial_load", "contact_width"], reference="finest",
+    )  # fmt: skip
+    assert rows[1]["radial_load_error"] < rows[0]["radial_load_error"] < 5e-3
+    assert rows[1]["contact_width_error"] < rows[0]["contact_width_error"] < 2e-2
+
+
+@pytest.mark.slow
+def test_linear_lip_has_the_larger_contact(mpi_tmp_path):
+    """S0 figure 8: the linear elastic lip has a (slightly) larger contact area than Mooney-Rivlin."""
+    lin = run_scene(
+        "lip-install",
+        make_parameters(
+            "lip-install", values={"lip": {"h_contact": 10e-6}, "material": {"model": "linear"}}
+        ),
+        mpi_tmp_path / "lin",
+    )
+    mr = run_scene(
+        "lip-install",
+        make_parameters("lip-install", values={"lip": {"h_contact": 10e-6}}),
+        mpi_tmp_path / "mr",
+    )
+    assert lin["contact_width"] > mr["contact_width"]
 
 
 def test_radial_load_from_profile_matches_force_integral(installed):
