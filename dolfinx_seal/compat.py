@@ -55,19 +55,26 @@ def create_matrix_block(a: Sequence[Sequence[Any]]) -> PETSc.Mat:
 def assemble_residual_block(
     b: PETSc.Vec, L: Sequence[Any], a: Sequence[Sequence[Any]], bcs: Sequence[Any], x: PETSc.Vec
 ) -> None:
-    """Assemble the block residual into ``b`` with Dirichlet rows set to ``x - g`` scaled by -1.
+    """Assemble the block residual ``F(x)`` into ``b``; Dirichlet rows hold ``x - g``.
 
-    Matches the single-field convention of ``NonlinearProblem.F`` in DOLFINx 0.9:
-    lifting with ``alpha=-1`` and ``x0=x`` so that bc rows hold ``g - x``... times -1.
+    Same convention as the single-field ``NonlinearProblem.F`` of DOLFINx 0.9:
+    lifting with ``alpha = -1`` and ``x0 = x``, so a Newton step restores ``g``.
     """
     with b.localForm() as bl:
         bl.set(0.0)
+    a_ = [list(r) for r in a]
     if _HAS_BLOCK:
-        _fem_petsc.assemble_vector_block(
-            b, list(L), [list(r) for r in a], bcs=list(bcs), x0=x, alpha=-1.0
-        )
+        _fem_petsc.assemble_vector_block(b, list(L), a_, bcs=list(bcs), x0=x, alpha=-1.0)
         return
-    raise NotImplementedError("block assembly for DOLFINx >= 0.10")  # pragma: no cover
+    # DOLFINx >= 0.10: written against its API, not run here (only 0.9 is installed)
+    from dolfinx.fem import bcs_by_block, extract_function_spaces  # pragma: no cover
+
+    _fem_petsc.assemble_vector(b, list(L))  # pragma: no cover
+    bcs1 = bcs_by_block(extract_function_spaces(a_, 1), list(bcs))  # pragma: no cover
+    _fem_petsc.apply_lifting(b, a_, bcs=bcs1, x0=x, alpha=-1.0)  # pragma: no cover
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)  # pragma: no cover
+    bcs0 = bcs_by_block(extract_function_spaces(list(L)), list(bcs))  # pragma: no cover
+    _fem_petsc.set_bc(b, bcs0, x0=x, alpha=-1.0)  # pragma: no cover
 
 
 def assemble_jacobian_block(A: PETSc.Mat, a: Sequence[Sequence[Any]], bcs: Sequence[Any]) -> None:
