@@ -53,11 +53,14 @@ class ContactLaw(ABC):
 
     def area_fraction(self, p: ArrayLike) -> FloatArray:
         """Relative real contact area ``A/A0`` at nominal contact pressure ``p`` [Pa]."""
-        raise NotImplementedError(f"{self.name} has no contact-area relation")
+        raise ParameterError(
+            f"contact law {self.name!r} has no contact-area relation; use a Persson or "
+            "Greenwood-Williamson law for A/A0"
+        )
 
     def separation(self, p: ArrayLike) -> FloatArray:
         """Inverse ``u(p)`` [m] (vectorised)."""
-        raise NotImplementedError(f"{self.name} has no inverse")
+        raise ParameterError(f"contact law {self.name!r} has no inverse u(p)")
 
     def area_fraction_at(self, u: ArrayLike) -> FloatArray:
         """``A/A0`` as a function of the separation, ``area_fraction(pressure(u))``."""
