@@ -452,13 +452,12 @@ class NonlinearSolver:
             snes.solve(None, self.x)
         except PETSc.Error as e:  # e.g. a factorisation failing on a non-finite matrix
             self.wall_time = time.perf_counter() - t0
-            self._rebuild_after_petsc_error(snes)
-            raise SolverError(
+            what = (
                 f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}): PETSc error {e.ierr} in the "
-                f"linear solve after {snes.getIterationNumber()} Newton steps",
-                where=where,
-                history=self.history,
-            ) from e
+                f"linear solve after {snes.getIterationNumber()} Newton steps"
+            )
+            self._rebuild_after_petsc_error(snes)  # destroys ``snes``: read it before
+            raise SolverError(what, where=where, history=self.history) from e
         self.wall_time = time.perf_counter() - t0
         self._to_functions(self.x)
         reason = snes.getConvergedReason()
@@ -468,13 +467,15 @@ class NonlinearSolver:
         self.total_newton_iterations += its
         where = where or self.name
         if reason <= 0:
+            what = (
+                f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}) {self.history.reason_name} "
+                f"after {its} Newton steps"
+            )
+            if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE:
+                # a failed factorisation leaves the preconditioner failed for later solves
+                self._rebuild_after_petsc_error(snes)  # destroys ``snes``: read it before
             if self.options.error_on_failure:
-                raise SolverError(
-                    f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}) {self.history.reason_name} "
-                    f"after {its} Newton steps",
-                    where=where,
-                    history=self.history,
-                )
+                raise SolverError(what, where=where, history=self.history)
             return self.history
         if self.has_bounds and self._penalty == 0.0:
             self.history.complementarity = self.complementarity()
