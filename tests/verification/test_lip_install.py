@@ -78,3 +78,24 @@ def test_radial_load_from_profile_matches_force_integral(installed):
 def test_interference_larger_than_the_lip_is_rejected():
     with pytest.raises(ParameterError, match="interference"):
         make_parameters("lip-install", values={"lip": {"interference": 5e-3}})
+
+
+def test_same_answer_serial_and_parallel(mpi_tmp_path):
+    """Under mpirun: the distributed lip equals a serial copy solved on each rank.
+
+    (Force-controlled scenes cannot be copied onto COMM_SELF inside an MPI run:
+    scifem 0.6 builds the real-space index map on COMM_WORLD.)"""
+    if MPI.COMM_WORLD.size == 1:
+        pytest.skip("compares a parallel run with a serial one")
+    import dolfinx_seal.scenes.lip_install as lip
+
+    p = make_parameters("lip-install", values={"lip": {"h_contact": 20e-6}})
+    par = lip.run(p, mpi_tmp_path / "par")
+    saved = lip.COMM_WORLD
+    try:
+        lip.COMM_WORLD = MPI.COMM_SELF
+        ser = lip.run(p, mpi_tmp_path / f"ser{MPI.COMM_WORLD.rank}")
+    finally:
+        lip.COMM_WORLD = saved
+    for k in ("radial_load", "contact_width"):
+        assert par[k] == pytest.approx(ser[k], rel=1e-6), k
