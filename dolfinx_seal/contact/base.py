@@ -67,6 +67,22 @@ class ContactLaw(ABC):
         return self.area_fraction(self.pressure(u))
 
 
+class AreaFromSeparation:
+    """``area_fraction(p)`` for laws whose area is known as a function of the separation.
+
+    ``A/A0 (p) = area_fraction_at(separation(p))`` for ``p > 0`` and 0 at ``p = 0``
+    (Greenwood-Williamson, Greenwood-Tripp).
+    """
+
+    def area_fraction(self, p: ArrayLike) -> FloatArray:
+        """``A/A0`` at nominal pressure ``p`` [Pa]."""
+        pa = as_array("p", p, 0.0, lo_open=False)
+        out = np.zeros_like(pa)
+        pos = pa > 0
+        out[pos] = self.area_fraction_at(self.separation(pa[pos]))  # type: ignore[attr-defined]
+        return out
+
+
 def invert_decreasing(
     f: Callable[[FloatArray], FloatArray],
     df: Callable[[FloatArray], FloatArray],

@@ -34,7 +34,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.special import erfc, erfcinv, gamma, pbdv
 
-from dolfinx_seal.contact.base import ContactLaw, FloatArray, as_array, invert_decreasing
+from dolfinx_seal.contact.base import (
+    AreaFromSeparation,
+    ContactLaw,
+    FloatArray,
+    as_array,
+    invert_decreasing,
+)
 from dolfinx_seal.params import check_choice, check_positive, check_range
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
@@ -70,7 +76,7 @@ def gw_function_derivative(n: float, lam: ArrayLike) -> FloatArray:
     return -n * gw_function(n - 1.0, x)
 
 
-class GreenwoodWilliamson(ContactLaw):
+class GreenwoodWilliamson(AreaFromSeparation, ContactLaw):
     """Greenwood-Williamson law with Gaussian (default) or exponential summit heights.
 
     Args:
@@ -135,14 +141,6 @@ class GreenwoodWilliamson(ContactLaw):
             self.pressure, self.dpressure_du, pa, -3 * self.sigma, 3 * self.sigma
         )
 
-    def area_fraction(self, p: ArrayLike) -> FloatArray:
-        """``A/A0`` at nominal pressure ``p`` [Pa] (linear for exponential summits)."""
-        pa = as_array("p", p, 0.0, lo_open=False)
-        out = np.zeros_like(pa)
-        pos = pa > 0
-        out[pos] = self.area_fraction_at(self.separation(pa[pos]))
-        return out
-
     @classmethod
     def from_psd(
         cls, psd: PowerSpectrum, e_star: float, distribution: str = "gaussian"
@@ -161,7 +159,7 @@ class GreenwoodWilliamson(ContactLaw):
         return cls(eta, radius, sigma, e_star, distribution)
 
 
-class GreenwoodTripp(ContactLaw):
+class GreenwoodTripp(AreaFromSeparation, ContactLaw):
     """Greenwood-Tripp two-rough-surface law (S2 eq 31).
 
     Args:
@@ -205,14 +203,6 @@ class GreenwoodTripp(ContactLaw):
         return invert_decreasing(
             self.pressure, self.dpressure_du, pa, -3 * self.sigma, 3 * self.sigma
         )
-
-    def area_fraction(self, p: ArrayLike) -> FloatArray:
-        """``A/A0`` at nominal pressure ``p`` [Pa]."""
-        pa = as_array("p", p, 0.0, lo_open=False)
-        out = np.zeros_like(pa)
-        pos = pa > 0
-        out[pos] = self.area_fraction_at(self.separation(pa[pos]))
-        return out
 
 
 class BushGibsonThomas(ContactLaw):
