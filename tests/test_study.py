@@ -15,7 +15,7 @@ from dolfinx_seal.studies import convergence_study
 
 
 def test_cylinder_study_writes_table_plot_and_orders(mpi_tmp_path):
-    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}})
+    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}, "lubricated": False})
     rows = convergence_study(
         "cylinder", p, mpi_tmp_path, "h_contact", [20e-6, 10e-6, 5e-6],
         ["max_contact_pressure", "contact_half_width"], reference="finest",

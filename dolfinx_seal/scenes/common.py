@@ -62,7 +62,7 @@ class ContactLawParams:
         model: ``persson`` (closed form of the full Persson relation, diverging as
             u -> 0), ``exponential`` (its asymptote ``beta E* exp(-alpha u/h_rms)``)
             or ``stiff`` (``E* exp(-u/stiff_length)``: a nearly smooth surface, for
-            Hertz checks).
+            Hertz checks); ``none``: no asperity contact (lubricated scenes only).
         gamma: Yang-Persson factor (S1: 0.4).
         stiff_length: Decay length of the ``stiff`` law [m]; 0 (default) chooses
             ``1e-3 a_H^2 / R``, a thousandth of the Hertz approach, which broadens
@@ -75,7 +75,7 @@ class ContactLawParams:
     stiff_length: float = 0.0
 
     def __post_init__(self) -> None:
-        check_choice("contact.model", self.model, ("persson", "exponential", "stiff"))
+        check_choice("contact.model", self.model, ("persson", "exponential", "stiff", "none"))
         check_range("contact.gamma", self.gamma, 0.0, 1.0, lo_open=True)
         check_range("contact.stiff_length", self.stiff_length, 0.0, 1e-3, unit="m (0 = automatic)")
 
@@ -87,6 +87,8 @@ class ContactLawParams:
         ``approach`` [m] is the Hertz approach ``a^2/R`` of the scene, which sets
         the automatic decay length of the ``stiff`` law.
         """
+        if self.model == "none":
+            return None, {}
         if self.model == "stiff":
             length = self.stiff_length or 1e-3 * approach
             return PerssonExponentialLaw(1.0, 1.0, e_star, length), {"stiff_length": length}

@@ -1,15 +1,24 @@
-"""Scene ``cylinder``: a rubber cylinder pressed on a rigid flat (S1 section 2), dry.
+"""Scene ``cylinder``: a rubber cylinder on a rigid flat (S1 section 2), lubricated or dry.
 
 2D plane strain, the S1 figure-4 system by default (R = 1 cm, F/L = 100 N/m,
-E = 10 MPa, nu = 0.5, h_rms = 1 um, D_f = 2.2), Persson asperity contact as a
-nonlinear traction on the deformed surface, force control (the flat's position
-is a global unknown), neo-Hookean mixed u-p bulk.  No film unknowns: this
-scene is dry (the lubricated cylinder adds the film on top of it).
+E = 10 MPa, nu = 0.5, h_rms = 1 um, D_f = 2.2, eta = 0.1 Pa s), Persson
+asperity contact as a nonlinear traction on the deformed surface, force
+control (the flat's position is a global unknown), neo-Hookean mixed u-p bulk.
 
-Reports the normal load, contact half-width (from the second moment of the
-pressure, ``a = 2 <x^2>^(1/2)``, exact for a Hertz ellipse), peak pressure, the
-Hertz references, the real contact area per unit length, and the pressure
-profile (``pressure.csv``, ``pressure.png``).
+With ``lubricated = true`` (default) the 1D Reynolds film on the deformed
+contact line (:mod:`dolfinx_seal.film.surface`) joins the Newton system: one
+SNES (VI) on displacement, mixed pressure, fluid pressure (and film fraction
+for JFO) and the flat's position (``solver = "monolithic"``), or the seeds'
+partitioned scheme (``solver = "partitioned"``, :mod:`dolfinx_seal.coupled.partitioned`).
+``bulk = false`` makes the cylinder rigid (no displacement unknowns; the
+Martin limit).  Only the enabled terms are assembled: a dry run
+(``lubricated = false``) has no film unknowns, zero speed no Couette term.
+
+Reports (lubricated): mu and its Couette / Poiseuille / asperity parts, the
+load split, h_min, h_central, x_cavitation, max pressures, load and mass
+balance, ``film.csv`` / ``film.png`` profiles.  Dry: normal load, contact
+half-width (second moment of the pressure, ``a = 2 <x^2>^(1/2)``), peak
+pressure, Hertz references, ``pressure.csv`` / ``pressure.png``.
 """
 
 from __future__ import annotations
@@ -20,18 +29,23 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import ufl
 
-from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.coupled.continuation import SpeedStepping, order_speeds, speed_sweep
+from dolfinx_seal.coupled.results import lubricated_results, write_film_profile
+from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
-from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.params import check_int_range, check_positive, check_range
+from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import (
     ContactLawParams,
     MaterialParams,
     hertz_line,
+    separation_of,
     solve_dry,
     write_profile,
 )
@@ -45,16 +59,24 @@ from dolfinx_seal.solvers import SNESOptions
 
 @dataclass(frozen=True)
 class CylinderParameters:
-    """Dry cylinder on a flat (SI units).
+    """Cylinder on a flat (SI units).
 
     Attributes:
         radius: Cylinder radius R [m].
         load: Normal load per unit length F/L [N/m].
         material: Rubber bulk.
         roughness: Roughness of the combined surfaces (S1: h_rms 1 um, D_f 2.2).
-        contact: Asperity contact law.
+        contact: Asperity contact law (``none``: no asperity contact, lubricated only).
         h_contact: Element size at the contact [m] (at most a_Hertz / 4).
         degree: Displacement degree (2; the mixed pressure is one lower).
+        lubricated: Solve the film (false: dry contact, no film unknowns).
+        bulk: Deformable cylinder (false: rigid, no displacement unknowns).
+        film: The lubricant film (speed, viscosity, cavitation model, ...).
+        solver: ``monolithic`` (one Newton on all unknowns) or ``partitioned``
+            (the seeds' alternating scheme, the baseline).
+        relaxation: Under-relaxation factor of the partitioned scheme (S0: 0.01-0.1).
+        sweep_order: Order of a speed sweep: ``up``, ``down``, ``up-down`` or ``given``.
+        stepping: Speed continuation options of sweeps.
     """
 
     radius: float = 0.01
@@ -64,11 +86,21 @@ class CylinderParameters:
     contact: ContactLawParams = field(default_factory=ContactLawParams)
     h_contact: float = 10e-6
     degree: int = 2
+    lubricated: bool = True
+    bulk: bool = True
+    film: FilmParams = field(default_factory=lambda: FilmParams(speed=0.01))
+    solver: str = "monolithic"
+    relaxation: float = 0.1
+    sweep_order: str = "up"
+    stepping: SpeedStepping = field(default_factory=SpeedStepping)
 
     def __post_init__(self) -> None:
         check_positive("radius", self.radius, "m")
         check_positive("load", self.load, "N/m")
         check_int_range("degree", self.degree, 1, 3)
+        check_choice("solver", self.solver, ("monolithic", "partitioned"))
+        check_range("relaxation", self.relaxation, 0.0, 1.0, lo_open=True)
+        check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
         a, _ = hertz_line(self.load, self.radius, self.material.E_star)
         check_range(
             "h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
@@ -78,19 +110,234 @@ class CylinderParameters:
                 f"load = {self.load!r} N/m gives a Hertz half-width {a:.3g} m > 0.3 R: "
                 "outside the small-contact regime of this scene"
             )
+        if not self.lubricated and not self.bulk:
+            raise ParameterError(
+                "bulk = false needs lubricated = true (a rigid dry cylinder is not a scene)"
+            )
+        if not self.lubricated and self.contact.model == "none":
+            raise ParameterError("contact.model = 'none' needs lubricated = true")
+        if self.lubricated and self.film.speed == 0.0 and self.contact.model == "none":
+            raise ParameterError(
+                "film.speed = 0 with contact.model = 'none': nothing would carry the load"
+            )
 
 
 def run(params: CylinderParameters, out: Path) -> dict[str, Any]:
+    """Solve one point (lubricated or dry); write the profiles; return the results."""
+    if params.lubricated:
+        return run_lubricated(params, out)
+    return run_dry(params, out)
+
+
+def _mesh(params: CylinderParameters, a_h: float) -> Any:
+    """The cylinder mesh; lubricated: the contact arc is the lubricated zone."""
+    extra = {}
+    if params.lubricated:
+        extra = dict(
+            contact_upstream=params.film.upstream, contact_downstream=params.film.downstream
+        )
+    return create_mesh(
+        "cylinder", comm=COMM_WORLD, radius=params.radius, contact_half_width=a_h,
+        h_contact=params.h_contact, h_arc=max(4 * params.h_contact, min(60e-6, a_h)), **extra,
+    )  # fmt: skip
+
+
+def build_lubricated(params: CylinderParameters) -> tuple[SolidContactProblem, dict[str, Any]]:
+    """The coupled problem (film on) and scalars describing it."""
+    e_star = params.material.E_star
+    a_h, p_h = hertz_line(params.load, params.radius, e_star)
+    law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
+    h_rms = params.roughness.h_rms
+    rms_slope = getattr(law, "rms_slope", math.nan) if law is not None else math.nan
+    tm = _mesh(params, a_h)
+    film = SurfaceFilm(
+        params.film, FilmScales(pressure=p_h, length=a_h, gap=h_rms, element=params.h_contact),
+        h_rms=h_rms, rms_slope=rms_slope, e_star=e_star,
+    )  # fmt: skip
+    snes = SNESOptions(
+        max_it=60, dtol=1e12,
+        snes_type="vinewtonssls" if params.film.cavitation == "jfo" else "vinewtonrsls",
+    )  # fmt: skip
+    prob = SolidContactProblem(
+        tm.mesh, tm.facet_tags, PlaneStrain(), params.material.build() if params.bulk else None,
+        Flat(axis=1), law, tm.tag("contact"), [Dirichlet(tm.tag("load"))], control="force",
+        target=params.load, degree=params.degree, snes=snes, name="cylinder",
+        max_step=0.5 * params.h_contact if params.bulk else None, film=film, bulk=params.bulk,
+    )  # fmt: skip
+    info = {
+        "hertz_half_width": a_h,
+        "hertz_peak_pressure": p_h,
+        "contact_law": law.name if law is not None else "none",
+        **law_info,
+    }
+    return prob, info
+
+
+def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> dict[str, Any]:
+    """Bring the coupled problem to its first converged state at ``film.speed``.
+
+    Deformable: deformation under the Hertz pressure (warm start), then one
+    coupled Newton solve; if that fails, a solve at a speed 1e-3 times lower
+    (boundary lubrication, nearly dry) and speed continuation up.  Rigid: the
+    flat starts at the Martin film thickness of the load.
+    """
+    log = get_logger()
+    t0 = time.perf_counter()
+    a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
+    its = 0
+    target = params.film.speed
+    if prob.bulk:
+        X = prob.X
+        guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))
+        peak_gap = separation_of(prob.law, p_h) if prob.law is not None else params.roughness.h_rms
+        its += prob.warm_start(guess, peak_gap)
+    else:
+        h0 = 4.9 * params.film.viscosity * 0.5 * max(target, 1e-12) * params.radius / params.load
+        prob.position.x.array[:] = -max(h0, params.roughness.h_rms)
+    strategy = "direct"
+    warm = prob._state()
+    try:
+        its += prob.solve_at(1.0)
+    except SolverError as e:
+        if target == 0.0:
+            raise
+        log.info("direct coupled solve failed (%s); speed continuation", e.what)
+        prob._restore(warm)
+        prob.film.set_speed(1e-3 * target)
+        its += prob.solve_at(1.0)
+        recs = speed_sweep(prob, [target], lambda *_: None, dict, params.stepping)
+        if not recs[-1].converged:
+            raise SolverError(
+                f"coupled solve did not reach film.speed = {target:g} m/s: {recs[-1].error}",
+                where="cylinder start",
+                partial={"speed": float(prob.film.speed.value)},
+            ) from e
+        its += recs[-1].newton_iterations
+        strategy = f"speed continuation ({recs[-1].steps} steps)"
+    return {
+        "newton_iterations": its,
+        "solve_time_s": time.perf_counter() - t0,
+        "strategy": strategy,
+    }
+
+
+def run_lubricated(params: CylinderParameters, out: Path) -> dict[str, Any]:
+    """One lubricated point at ``film.speed``."""
+    t0 = time.perf_counter()
+    prob, info = build_lubricated(params)
+    if params.solver == "partitioned":
+        from dolfinx_seal.coupled.partitioned import partitioned_start
+
+        solve_info = partitioned_start(prob, params)
+    else:
+        solve_info = start_lubricated(prob, params)
+    a_h = info["hertz_half_width"]
+    res = lubricated_results(prob, nominal_area=2.0 * a_h)
+    res.update(info)
+    res.update(solve_info)
+    res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=COMM_WORLD.size,
+               wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+    write_film_profile(out, prob, _title(params))
+    return res
+
+
+def _title(params: CylinderParameters) -> str:
+    f = params.film
+    return (f"cylinder F/L = {params.load:g} N/m, U = {f.speed:.3g} m/s, "
+            f"h_rms = {params.roughness.h_rms * 1e6:g} um, {f.cavitation}")  # fmt: skip
+
+
+def sweep(
+    params: CylinderParameters, out: Path, name: str, values: list[float], on_point: Any
+) -> list[dict[str, Any]]:
+    """Stribeck sweep over ``film.speed`` (or ``speed``) with continuation.
+
+    Starts at the first speed of the ordered list, then walks the others with
+    :func:`~dolfinx_seal.coupled.continuation.speed_sweep`; each converged point
+    goes to ``on_point`` at once (``sweep.csv``).  Failed points are recorded
+    in ``sweep_failures.csv`` and the sweep goes on from the last good point.
+    """
+    if name not in ("speed", "film.speed"):
+        raise ParameterError(f"cylinder sweeps run over film.speed (got --over {name!r})")
+    if not params.lubricated:
+        raise ParameterError("lubricated = false: a speed sweep needs the film")
+    speeds = order_speeds(values, params.sweep_order)
+    from dolfinx_seal.scenes import set_parameter
+
+    p0 = set_parameter(params, "film.speed", speeds[0])
+    prob, info = build_lubricated(p0)
+    a_h = info["hertz_half_width"]
+    rows: list[dict[str, Any]] = []
+
+    def results() -> dict[str, Any]:
+        r = lubricated_results(prob, nominal_area=2.0 * a_h)
+        r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
+        return r
+
+    def point(v: float, r: dict[str, Any]) -> None:
+        rows.append(r)
+        on_point(v, r)
+        write_film_profile(
+            out / f"speed_{v:.3e}", prob, _title(set_parameter(params, "film.speed", v))
+        )
+
+    t0 = time.perf_counter()
+    start = start_lubricated(prob, p0)
+    r0 = results()
+    r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
+              wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+    point(speeds[0], r0)
+    recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)
+    failed = [r for r in recs if not r.converged]
+    if failed and COMM_WORLD.rank == 0:
+        with (out / "sweep_failures.csv").open("w") as fh:
+            fh.write("speed,error\n")
+            for r in failed:
+                fh.write(f'{r.speed!r},"{r.error}"\n')
+    return rows
+
+
+def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
+    """Stribeck curve mu(eta v) with its parts, and the fluid load fraction (``sweep.png``)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = sorted(rows, key=lambda r: float(r["eta_v"]))
+    ev = np.array([float(r["eta_v"]) for r in rows])
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
+    ax1.loglog(ev, [float(r["mu"]) for r in rows], "ko-", ms=3, label="mu")
+    for k, st in (("mu_asperity", "s--"), ("mu_couette", "^--"), ("mu_poiseuille", "v--")):
+        if k in rows[0]:
+            y = np.array([float(r[k]) for r in rows])
+            ax1.loglog(ev[y > 0], y[y > 0], st, ms=3, label=k)
+    ax1.set_xlabel("eta v [Pa m]")
+    ax1.set_ylabel("friction coefficient")
+    ax1.legend(frameon=False, fontsize=8)
+    ax2.semilogx(ev, [float(r["fluid_load_fraction"]) for r in rows], "bo-", ms=3, label="fluid")
+    ax2.semilogx(
+        ev, [1 - float(r["fluid_load_fraction"]) for r in rows], "rs-", ms=3, label="asperities"
+    )
+    ax2.set_xlabel("eta v [Pa m]")
+    ax2.set_ylabel("load fraction")
+    ax2.legend(frameon=False)
+    ax3 = ax2.twinx()
+    ax3.loglog(ev, [float(r["h_min"]) * 1e6 for r in rows], "g^:", ms=3)
+    ax3.set_ylabel("h_min [um] (green)")
+    fig.tight_layout()
+    fig.savefig(Path(out_dir) / "sweep.png", dpi=120)
+    plt.close(fig)
+
+
+def run_dry(params: CylinderParameters, out: Path) -> dict[str, Any]:
     """Solve the dry cylinder; write the pressure profile; return the results."""
     t0 = time.perf_counter()
     mat = params.material.build()
     e_star = params.material.E_star
     a_h, p_h = hertz_line(params.load, params.radius, e_star)
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
-    tm = create_mesh(
-        "cylinder", comm=COMM_WORLD, radius=params.radius, contact_half_width=a_h,
-        h_contact=params.h_contact, h_arc=max(4 * params.h_contact, min(60e-6, a_h)),
-    )  # fmt: skip
+    tm = _mesh(params, a_h)
     prob = SolidContactProblem(
         tm.mesh, tm.facet_tags, PlaneStrain(), mat, Flat(axis=1), law, tm.tag("contact"),
         [Dirichlet(tm.tag("load"))], control="force", target=params.load, degree=params.degree,
@@ -156,9 +403,11 @@ def dry_results(
 
 SCENE = Scene(
     name="cylinder",
-    summary="dry rubber cylinder on a flat (S1 sec 2): Persson contact, Hertz check",
+    summary="rubber cylinder on a flat (S1 sec 2): soft EHL film + Persson contact, or dry",
     parameters=CylinderParameters,
     run=run,
+    sweep=lambda *a: sweep(*a),
+    plot_sweep=lambda *a: plot_sweep(*a),
 )
 
-__all__ = ["SCENE", "CylinderParameters", "dry_results", "run"]
+__all__ = ["SCENE", "CylinderParameters", "build_lubricated", "dry_results", "run", "sweep"]

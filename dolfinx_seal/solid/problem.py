@@ -22,6 +22,7 @@ failed one, restoring the last converged state.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -35,6 +36,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.film.surface import FilmContext
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.solid import tractions
@@ -126,6 +128,12 @@ class SolidContactProblem:
             [m] (normal displacement minus counter-surface motion).  A few decay
             lengths of the contact law keep Newton on an exponential law from
             overshooting by decades of pressure (DESIGN.md section 5); None: no limit.
+        film: Optional :class:`~dolfinx_seal.film.surface.SurfaceFilm` on the
+            contact surface: its unknowns join the Newton system, its pressure and
+            shear act on the body and count in the force equation.
+        bulk: False for a rigid body: no displacement unknowns (``material``,
+            ``dirichlet`` and the step limits are then unused).
+        sliding_axis: Coordinate axis of the counter-surface's sliding direction.
     """
 
     def __init__(
@@ -147,40 +155,53 @@ class SolidContactProblem:
         max_step: float | None = None,
         max_gap_step: float | None = None,
         name: str = "solid",
+        film: Any = None,
+        bulk: bool = True,
+        sliding_axis: int = 0,
     ) -> None:
         check_choice("control", control, ("force", "position"))
         check_int_range("degree", degree, 1, 3)
         if control == "force":
             check_positive("target (normal load)", target)
-        if material.mixed and degree < 2:
+        self.bulk = bool(bulk)
+        if self.bulk and material.mixed and degree < 2:
             raise ParameterError("the mixed formulation needs degree >= 2 (Taylor-Hood)")
+        if law is None and film is None:
+            raise ParameterError("law: a problem without a film needs a contact law")
         self.mesh, self.facet_tags = mesh, facet_tags
         self.kin, self.material, self.counter, self.law = kinematics, material, counter, law
         self.control, self.target, self.name = control, float(target), name
         self.contact_tag = contact_tag
         gdim = mesh.geometry.dim
         cell = mesh.basix_cell()
-        Ve = basix.ufl.element("Lagrange", cell, degree, shape=(gdim,))
-        if material.mixed:
-            Qe = basix.ufl.element("Lagrange", cell, degree - 1)
-            self.W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([Ve, Qe]))
-        else:
-            self.W = dolfinx.fem.functionspace(mesh, Ve)
-        self.w = dolfinx.fem.Function(self.W, name="state")
-        vw = ufl.TestFunction(self.W)
-        if material.mixed:
-            self.u, self.p_mix = ufl.split(self.w)
-            v, _ = ufl.split(vw)
-        else:
-            self.u, self.p_mix = self.w, None
-            v = vw
+        self.mixed = self.bulk and material.mixed
+        self.W: Any = None
+        self.w: Any = None
+        vw: Any = None
+        if self.bulk:
+            Ve = basix.ufl.element("Lagrange", cell, degree, shape=(gdim,))
+            if material.mixed:
+                Qe = basix.ufl.element("Lagrange", cell, degree - 1)
+                self.W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([Ve, Qe]))
+            else:
+                self.W = dolfinx.fem.functionspace(mesh, Ve)
+            self.w = dolfinx.fem.Function(self.W, name="state")
+            vw = ufl.TestFunction(self.W)
+            if material.mixed:
+                self.u, self.p_mix = ufl.split(self.w)
+                v, _ = ufl.split(vw)
+            else:
+                self.u, self.p_mix = self.w, None
+                v = vw
+        else:  # rigid body: no displacement unknowns
+            self.u, self.p_mix, v = ufl.as_vector([0.0] * gdim), None, None
         X = ufl.SpatialCoordinate(mesh)
         self.X = X
         self.x = X + self.u  # current position
         self.weight = kinematics.weight(X)
-        self.F = kinematics.F(self.u)
+        self.F = kinematics.F(self.u) if self.bulk else ufl.Identity(3)
         self.N3 = kinematics.vector3(ufl.FacetNormal(mesh))
-        self.v3 = kinematics.vector3(v)
+        self.v3 = kinematics.vector3(v) if self.bulk else None
         self.e_n = counter.normal(gdim)
         self.dx = ufl.Measure("dx", domain=mesh)
         self.ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
@@ -201,45 +222,82 @@ class SolidContactProblem:
             self.position = dolfinx.fem.Constant(mesh, float(position0))
             self.load = None
 
+        self.extra = None
         self.gap = counter.gap(self.x, self.position)
-        self.p_cont = contact_pressure(law, self.gap)
+        self.p_cont = contact_pressure(law, self.gap) if law is not None else None
+
+        # the lubricating film (optional): its unknowns, residuals and tractions
+        self.film = film
+        if film is not None:
+            film.attach(
+                FilmContext(
+                    mesh, facet_tags, contact_tag, self.x, self.F, self.N3, self.weight,
+                    self.gap, kinematics.vector3, self.e_n, _unit(gdim, sliding_axis),
+                ),
+                p_cont=self.p_cont,
+            )  # fmt: skip
 
         # residual of the body
-        if isinstance(material, LinearElastic):
-            energy = material.small_strain_energy(kinematics.eps(self.u), self.p_mix)
-        else:
-            energy = material.strain_energy(self.F, self.p_mix)
-        R_w = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
-        R_w += -tractions.pressure_work(
-            self.p_cont, self.F, self.N3, self.v3, self.weight, self.ds_c
-        )
-        self.extra = extra_residual(self) if extra_residual is not None else None
-        if self.extra is not None:
-            R_w += self.extra
-
-        self.bcs = self._dirichlet(dirichlet)
-        # contact force on the body along the counter normal (N, or N/m)
-        self.force_form = tractions.normal_force(
-            self.p_cont, self.F, self.N3, self.e_n, self.weight, self.ds_c
-        )
+        blocks: list[tuple[Any, Any, Any, Any]] = []  # (residual, unknown, lower, upper)
+        self.bcs: list[dolfinx.fem.DirichletBC] = []
+        if self.bulk:
+            if isinstance(material, LinearElastic):
+                energy = material.small_strain_energy(kinematics.eps(self.u), self.p_mix)
+            else:
+                energy = material.strain_energy(self.F, self.p_mix)
+            R_w = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
+            if self.p_cont is not None:
+                R_w += -tractions.pressure_work(
+                    self.p_cont, self.F, self.N3, self.v3, self.weight, self.ds_c
+                )
+            if film is not None:
+                R_w += film.traction_work(self.v3)
+            self.extra = extra_residual(self) if extra_residual is not None else None
+            if self.extra is not None:
+                R_w += self.extra
+            blocks.append((R_w, self.w, None, None))
+            self._dirichlet_bcs = self._dirichlet(dirichlet)
+            self.bcs += self._dirichlet_bcs
+        if film is not None:
+            blocks += film.blocks
+            self.bcs += film.bcs
+        # force on the body along the counter normal (N, or N/m): asperities + fluid
+        f_n = 0.0
+        if self.p_cont is not None:
+            f_n = -self.p_cont * ufl.dot(tractions.nanson_normal(self.F, self.N3), self.e_n)
+            f_n = f_n * self.weight
+        if film is not None:
+            f_n = f_n + film.normal_force_integrand()
+        self.force_form = f_n * self.ds_c
         opts = snes or SNESOptions(max_it=30)
-        limiter = self._step_limiter(max_step, max_gap_step) if (max_step or max_gap_step) else None
-        self._max_step_limiter = self._step_limiter(max_step, None) if max_step else None
         if control == "force":
             mu = ufl.TestFunction(self.R)
             vol = mesh.comm.allreduce(
                 dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * self.dx)), op=MPI.SUM
             )
-            f_n = -self.p_cont * ufl.dot(tractions.nanson_normal(self.F, self.N3), self.e_n)
-            R_r = f_n * self.weight * mu * self.ds_c - self.load / vol * mu * self.dx
+            R_r = f_n * mu * self.ds_c - self.load / vol * mu * self.dx
+            blocks.append((R_r, self.position, None, None))
+        self.blocks = blocks
+        bulk_limits = self.bulk and (max_step or max_gap_step)
+        limiter = self._step_limiter(max_step, max_gap_step) if bulk_limits else None
+        self._max_step_limiter = (
+            self._step_limiter(max_step, None) if (max_step and self.bulk) else None
+        )
+        has_bounds = any(b[2] is not None or b[3] is not None for b in blocks)
+        lower = [b[2] for b in blocks] if has_bounds else None
+        upper = [b[3] for b in blocks] if has_bounds else None
+        if len(blocks) == 1:
+            lower = lower[0] if lower else None
+            upper = upper[0] if upper else None
             self.solver = NonlinearSolver(
-                [R_w, R_r], [self.w, self.position], self.bcs, options=opts, name=name,
-                step_limiter=limiter,
+                blocks[0][0], blocks[0][1], self.bcs, lower=lower, upper=upper, options=opts,
+                name=name, step_limiter=limiter,
             )  # fmt: skip
         else:
             self.solver = NonlinearSolver(
-                R_w, self.w, self.bcs, options=opts, name=name, step_limiter=limiter
-            )
+                [b[0] for b in blocks], [b[1] for b in blocks], self.bcs, lower=lower,
+                upper=upper, options=opts, name=name, step_limiter=limiter,
+            )  # fmt: skip
         self.steps: list[StepRecord] = []
         self._force_compiled = dolfinx.fem.form(self.force_form)
 
@@ -294,6 +352,11 @@ class SolidContactProblem:
         if max_gap_step:
             check_positive("max_gap_step", max_gap_step, "m")
         comm = self.mesh.comm
+        pos_index = sum(
+            b[1].function_space.dofmap.index_map.size_local
+            * b[1].function_space.dofmap.index_map_bs
+            for b in self.blocks[:-1]
+        )
 
         def limit(x: np.ndarray, dx: np.ndarray) -> float:
             s = 1.0
@@ -303,8 +366,8 @@ class SolidContactProblem:
                     s = min(s, max_step / big)
             if max_gap_step:
                 dpos = 0.0
-                if self.control == "force":  # the position dof follows the field block
-                    mine = float(dx[n_own]) if self._owns_position else None
+                if self.control == "force":  # the position dof is the last block
+                    mine = float(dx[pos_index]) if self._owns_position else None
                     dpos = comm.bcast(mine, root=self._pos_root)
                 dgap = np.abs(dx[ndofs] - dpos).max(initial=0.0)
                 if dgap > max_gap_step:
@@ -315,11 +378,29 @@ class SolidContactProblem:
 
     @property
     def dofs(self) -> int:
-        """Global number of unknowns."""
-        im = self.W.dofmap.index_map
-        return int(im.size_global * self.W.dofmap.index_map_bs) + (
-            1 if self.control == "force" else 0
-        )
+        """Global number of unknowns (film dofs off the lubricated surface excluded)."""
+        return sum(self.dof_counts().values())
+
+    def dof_counts(self) -> dict[str, int]:
+        """Global number of unknowns per field.
+
+        Keys ``displacement`` (with the mixed pressure, when the bulk is on),
+        ``fluid_pressure`` and ``film_fraction`` (free dofs on the lubricated
+        surface, when a film is on) and ``position`` (force control).  A field
+        the problem does not have is absent.
+        """
+        out: dict[str, int] = {}
+        if self.bulk:
+            im = self.W.dofmap.index_map
+            out["displacement"] = int(im.size_global * self.W.dofmap.index_map_bs)
+        if self.film is not None:
+            n = self.mesh.comm.allreduce(int(self.film.film_dofs_local.size), op=MPI.SUM)
+            out["fluid_pressure"] = n
+            if self.film.has_theta:
+                out["film_fraction"] = n
+        if self.control == "force":
+            out["position"] = 1
+        return out
 
     # ---------------------------------------------------------------- solving
     def set_fraction(self, t: float) -> None:
@@ -329,14 +410,13 @@ class SolidContactProblem:
         else:
             self.position.value = self.position0 + t * (self.target - self.position0)
 
-    def _state(self) -> tuple[np.ndarray, np.ndarray | None]:
-        pos = self.position.x.array.copy() if self.control == "force" else None
-        return self.w.x.array.copy(), pos
+    def _state(self) -> list[np.ndarray]:
+        """Copies of the arrays of all unknowns."""
+        return [b[1].x.array.copy() for b in self.blocks]
 
-    def _restore(self, state: tuple[np.ndarray, np.ndarray | None]) -> None:
-        self.w.x.array[:] = state[0]
-        if state[1] is not None:
-            self.position.x.array[:] = state[1]
+    def _restore(self, state: Sequence[np.ndarray]) -> None:
+        for b, arr in zip(self.blocks, state, strict=True):
+            b[1].x.array[:] = arr
 
     def solve_at(self, t: float, where: str = "") -> int:
         """Newton solve at load fraction ``t`` from the current state; returns Newton steps."""
@@ -361,7 +441,7 @@ class SolidContactProblem:
         log = get_logger()
         t = t_start
         dt = min(st.first, t_end - t_start)
-        last: list[tuple[float, tuple[np.ndarray, np.ndarray | None]]] = [(t, self._state())]
+        last: list[tuple[float, list[np.ndarray]]] = [(t, self._state())]
         for _ in range(st.max_steps):
             if t >= t_end - 1e-14:
                 return self.steps
@@ -370,9 +450,7 @@ class SolidContactProblem:
             if st.predictor and len(last) == 2:  # secant predictor
                 (ta, sa), (tb, sb) = last
                 r = (t_try - tb) / (tb - ta)
-                self.w.x.array[:] = sb[0] + r * (sb[0] - sa[0])
-                if sb[1] is not None:
-                    self.position.x.array[:] = sb[1] + r * (sb[1] - sa[1])
+                self._restore([b + r * (b - a) for a, b in zip(sa, sb, strict=True)])
             t0 = time.perf_counter()
             try:
                 its = self.solve_at(t_try)
@@ -415,6 +493,8 @@ class SolidContactProblem:
         stiff contact law then starts within a fraction of ``h_rms`` of its
         solution instead of from a point contact.  Returns the Newton steps.
         """
+        if not self.bulk:
+            raise ParameterError("warm_start needs the bulk (bulk=True)")
         vw = ufl.TestFunction(self.W)
         v = ufl.split(vw)[0] if self.material.mixed else vw
         v3 = self.kin.vector3(v)
@@ -425,7 +505,8 @@ class SolidContactProblem:
         R = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
         R += -tractions.pressure_work(pressure_guess, self.F, self.N3, v3, self.weight, self.ds_c)
         pre = NonlinearSolver(
-            R, self.w, self.bcs, options=self.solver.options, name=f"{self.name} warm start",
+            R, self.w, self._dirichlet_bcs, name=f"{self.name} warm start",
+            options=dataclasses.replace(self.solver.options, snes_type="newtonls"),
             # the displacement-only (penalty) form of nearly incompressible rubber has a
             # huge volumetric stiffness and needs damped steps from the undeformed state;
             # the mixed form converges in 3-4 full steps at any mesh size
@@ -476,11 +557,12 @@ class SolidContactProblem:
             f = _lumped_projection(self, expr, tag)
             S = f.function_space
         else:
-            deg = (
-                self.W.sub(0).ufl_element().degree
-                if self.material.mixed
-                else self.W.ufl_element().degree
-            )
+            if not self.bulk:
+                deg = 1
+            elif self.mixed:
+                deg = self.W.sub(0).ufl_element().degree
+            else:
+                deg = self.W.ufl_element().degree
             S = dolfinx.fem.functionspace(self.mesh, ("Lagrange", deg))
             f = dolfinx.fem.Function(S)
             f.interpolate(dolfinx.fem.Expression(expr, _interp_points(S)))
@@ -525,3 +607,9 @@ def _interp_points(V: Any) -> Any:
 
 
 __all__ = ["Dirichlet", "SolidContactProblem", "StepRecord", "SteppingOptions"]
+
+
+def _unit(gdim: int, axis: int) -> Any:
+    """Unit 3-vector along coordinate ``axis``."""
+    check_int_range("sliding_axis", axis, 0, gdim - 1)
+    return ufl.as_vector([1.0 if i == axis else 0.0 for i in range(3)])

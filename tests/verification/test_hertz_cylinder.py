@@ -24,7 +24,7 @@ A_H, P_H = hertz_line(100.0, 0.01, 10e6 / 0.75)
 
 
 def _run(tmp, **values):
-    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}, **values})
+    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}, "lubricated": False, **values})
     return run_scene("cylinder", p, tmp)
 
 
@@ -99,7 +99,8 @@ def test_stiff_rubber_1_gpa(mpi_tmp_path):
 
 def test_rough_contact_is_hertz_like_with_broadened_edges(mpi_tmp_path):
     """S1 figure 4: h_rms = 1 um, D_f = 2.2, full Persson law."""
-    r = run_scene("cylinder", make_parameters("cylinder"), mpi_tmp_path / "rough")
+    p = make_parameters("cylinder", values={"lubricated": False})
+    r = run_scene("cylinder", p, mpi_tmp_path / "rough")
     assert r["load_balance_error"] < 1e-8
     assert r["contact_half_width"] > A_H * 1.02  # broadened
     assert 0.85 * P_H < r["max_contact_pressure"] < P_H  # flattened peak, still Hertz-like

@@ -1,0 +1,144 @@
+"""Continuation in speed for lubricated contacts (Stribeck sweeps).
+
+Newton steps per point stay bounded when each point starts from the previous
+converged state and the speed changes by a bounded factor (DESIGN.md
+section 5).  :func:`speed_sweep` walks the requested speeds in log steps of at
+most :attr:`SpeedStepping.max_decades`; a failed step restores the last
+converged state and halves the step; below :attr:`SpeedStepping.min_decades`
+the target point is recorded as failed and the sweep goes on to the next one
+from the last good state.  Every converged target is handed to ``on_point``
+at once, so finished points are never lost.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from dolfinx_seal.errors import SolverError
+from dolfinx_seal.mpi import get_logger
+from dolfinx_seal.params import check_int_range, check_positive, check_range
+
+
+@dataclass(frozen=True)
+class SpeedStepping:
+    """Speed continuation options.
+
+    Attributes:
+        max_decades: Largest speed change of one continuation step [decades].
+        min_decades: Smallest step before a target is given up [decades].
+        grow: Step growth after an easy step.
+        easy: Newton steps counted as easy.
+    """
+
+    max_decades: float = 0.5
+    min_decades: float = 0.005
+    grow: float = 1.5
+    easy: int = 8
+
+    def __post_init__(self) -> None:
+        check_range("max_decades", self.max_decades, 0.0, 3.0, lo_open=True)
+        check_positive("min_decades", self.min_decades)
+        check_range("grow", self.grow, 1.0, 4.0)
+        check_int_range("easy", self.easy, 1)
+
+
+@dataclass
+class SweepRecord:
+    """What happened on the way to one target speed."""
+
+    speed: float
+    converged: bool
+    newton_iterations: int = 0
+    steps: int = 0
+    wall_time_s: float = 0.0
+    error: str = ""
+    intermediate: list[float] = field(default_factory=list)
+
+
+def speed_sweep(
+    prob: Any,
+    speeds: Sequence[float],
+    on_point: Callable[[float, dict[str, Any]], None],
+    results: Callable[[], dict[str, Any]],
+    stepping: SpeedStepping | None = None,
+) -> list[SweepRecord]:
+    """Solve ``prob`` (with a film) at each speed of ``speeds`` in the given order.
+
+    The problem must hold a converged state at its current speed.  Returns one
+    record per target; ``on_point(speed, results())`` is called for each
+    converged target.
+    """
+    st = stepping or SpeedStepping()
+    film = prob.film
+    log = get_logger()
+    records: list[SweepRecord] = []
+    step = st.max_decades
+    for target in speeds:
+        check_positive("speed", target, "m/s")
+        rec = SweepRecord(speed=float(target), converged=False)
+        t0 = time.perf_counter()
+        current = float(film.speed.value)
+        while True:
+            dist = math.log10(target / current)
+            if abs(dist) < 1e-12:
+                rec.converged = True
+                break
+            s_try = target if abs(dist) <= step else current * 10 ** math.copysign(step, dist)
+            saved = prob._state()
+            film.set_speed(s_try)
+            try:
+                hist = prob.solver.solve(where=f"{prob.name} at speed {s_try:.4g} m/s")
+            except SolverError as e:
+                prob._restore(saved)
+                film.set_speed(current)
+                step *= 0.5
+                log.info(
+                    "speed step to %.4g m/s failed (%s); step %.3g decades", s_try, e.what, step
+                )
+                if step < st.min_decades:
+                    rec.error = f"{e.what} ({e.where})"
+                    step = st.max_decades
+                    break
+                continue
+            rec.newton_iterations += hist.newton_iterations
+            rec.steps += 1
+            if s_try != target:
+                rec.intermediate.append(s_try)
+            current = s_try
+            if hist.newton_iterations <= st.easy:
+                step = min(step * st.grow, st.max_decades)
+        rec.wall_time_s = time.perf_counter() - t0
+        records.append(rec)
+        if rec.converged:
+            res = results()
+            res.update(
+                newton_iterations=rec.newton_iterations,
+                continuation_steps=rec.steps,
+                wall_time_s=rec.wall_time_s,
+                converged=True,
+            )
+            on_point(float(target), res)
+        else:
+            log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
+                      target, rec.error, float(film.speed.value))  # fmt: skip
+    return records
+
+
+def order_speeds(values: Sequence[float], order: str) -> list[float]:
+    """Speeds for a sweep: ``up`` (ascending), ``down`` (descending), ``up-down``
+    (ascending then back down, for hysteresis), or ``given``."""
+    v = sorted(float(x) for x in values)
+    if order == "up":
+        return v
+    if order == "down":
+        return v[::-1]
+    if order == "up-down":
+        return v + v[-2::-1]
+    return [float(x) for x in values]
+
+
+__all__ = ["SpeedStepping", "SweepRecord", "order_speeds", "speed_sweep"]

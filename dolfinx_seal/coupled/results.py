@@ -1,0 +1,144 @@
+"""Results of a lubricated contact point (DESIGN.md section 6), from a solved problem.
+
+Friction: the force needed to slide the counter-surface, ``F_t = int (sigma_1
+A/A0 + eta U theta / g + (g/2) dp/ds) da`` (S1 eq 29), split into its
+asperity, Couette and Poiseuille parts; ``mu = F_t / F_N`` with ``F_N`` the
+normal load (fluid + asperities).  Per unit length in 2D (N/m), N in 3D.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import ufl
+
+from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.solid import tractions
+from dolfinx_seal.solid.asperity import area_fraction
+
+
+def lubricated_results(
+    prob: Any, symmetry_factor: float = 1.0, nominal_area: float | None = None
+) -> dict[str, Any]:
+    """Scalars of a solved lubricated point (SI; keys of the results contract).
+
+    Args:
+        prob: A solved :class:`~dolfinx_seal.solid.problem.SolidContactProblem`
+            with a film.
+        symmetry_factor: Multiplies integrals over a symmetric half model.
+        nominal_area: Nominal contact area (length in 2D) [m^2 or m] for
+            ``contact_area_fraction`` (e.g. the Hertz ``2 a``); None: not reported.
+    """
+    film = prob.film
+    ds = prob.ds_c
+    sf = symmetry_factor
+    load_fluid = sf * prob.integrate(film.normal_force_integrand(), ds)
+    load_contact = 0.0
+    if prob.p_cont is not None:
+        fn = -prob.p_cont * ufl.dot(tractions.nanson_normal(prob.F, prob.N3), prob.e_n)
+        load_contact = sf * prob.integrate(fn * prob.weight, ds)
+    normal = load_fluid + load_contact
+    parts = {k: sf * prob.integrate(v, ds) for k, v in film.friction_parts().items()}
+    friction = sum(parts.values())
+    vals = film.film_values()
+    gap, p, theta = vals["gap"], vals["p"], vals["theta"]
+    xc = vals["x"][:, 0]
+    out: dict[str, Any] = {
+        "normal_load": normal,
+        "load_fluid": load_fluid,
+        "load_contact": load_contact,
+        "fluid_load_fraction": load_fluid / normal if normal else math.nan,
+        "friction_force": friction,
+        "mu": friction / normal if normal else math.nan,
+        "h_min": float(gap.min()),
+        "max_fluid_pressure": float(p.max()),
+        "load_balance_error": abs(normal / sf - prob.target) / prob.target
+        if prob.control == "force"
+        else math.nan,
+        "mass_balance_error": film.mass_balance_error(),
+        "counter_position": prob.counter_position(),
+        "speed": float(film.speed.value),
+        "eta_v": film.params.viscosity * float(film.speed.value),
+    }
+    for k, v in parts.items():
+        out[f"mu_{k}"] = v / normal if normal else math.nan
+    if prob.control != "force":
+        del out["load_balance_error"]
+    if prob.mesh.geometry.dim == 2:
+        out["h_central"] = float(np.interp(0.0, xc, gap))
+        cav = _cavitated(film.params.cavitation, p, theta)
+        dx = np.gradient(xc)
+        out["cavitation_fraction"] = float(dx[cav].sum() / dx.sum())
+        i = int(np.argmax(p))
+        after = np.flatnonzero(cav[i:])
+        if after.size:
+            out["x_cavitation"] = float(xc[i + after[0]])
+    if prob.p_cont is not None:
+        _, pc = prob.surface_values(prob.p_cont, average=True)
+        out["max_contact_pressure"] = float(pc.max())
+        if nominal_area and math.isfinite(film.rms_slope):
+            A = area_fraction(prob.p_cont, film.e_star, film.rms_slope)
+            real = sf * prob.integrate(A * film.da, ds)
+            out["real_contact_area"] = real
+            out["contact_area_fraction"] = real / nominal_area
+    return out
+
+
+def _cavitated(model: str, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Cavitated nodes: ``theta < 1`` (JFO), ``p <= 0`` (Reynolds), ``p < 0`` (none)."""
+    if model == "jfo":
+        return theta < 1.0 - 1e-8
+    if model == "reynolds":
+        return p <= 0.0
+    return p < 0.0
+
+
+def write_film_profile(out: Path, prob: Any, title: str) -> None:
+    """``film.csv`` and ``film.png``: fluid and asperity pressure, gap, film fraction
+    along the lubricated line (2D scenes), on rank 0."""
+    film = prob.film
+    vals = film.film_values()
+    pc = np.zeros_like(vals["p"])
+    if prob.p_cont is not None:
+        Xs, pcs = prob.surface_values(prob.p_cont, average=True)
+        pc = np.interp(vals["X"][:, 0], Xs[:, 0], pcs)
+    if COMM_WORLD.rank != 0:
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    x = vals["x"][:, 0]
+    cols = {
+        "x_m": x,
+        "X_m": vals["X"][:, 0],
+        "p_fluid_Pa": vals["p"],
+        "p_contact_Pa": pc,
+        "gap_m": vals["gap"],
+        "theta": vals["theta"],
+    }
+    data = np.column_stack(list(cols.values()))
+    np.savetxt(out / "film.csv", data, delimiter=",", header=",".join(cols), comments="")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(6.4, 6.0), sharex=True)
+    ax1.plot(x * 1e3, vals["p"] / 1e6, label="fluid")
+    ax1.plot(x * 1e3, pc / 1e6, label="asperity")
+    ax1.plot(x * 1e3, (vals["p"] + pc) / 1e6, "k:", label="total")
+    ax1.set_ylabel("pressure [MPa]")
+    ax1.legend(frameon=False)
+    ax1.set_title(title)
+    ax2.semilogy(x * 1e3, vals["gap"] * 1e6, label="gap [um]")
+    if film.has_theta:
+        ax2.semilogy(x * 1e3, np.maximum(vals["theta"], 1e-3), label="film fraction")
+    ax2.set_xlabel("x [mm]")
+    ax2.legend(frameon=False)
+    fig.tight_layout()
+    fig.savefig(out / "film.png", dpi=120)
+    plt.close(fig)
+
+
+__all__ = ["lubricated_results", "write_film_profile"]

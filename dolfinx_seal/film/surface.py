@@ -1,0 +1,500 @@
+"""The lubricating film on the deformed contact surface of the rubber.
+
+Reynolds equation (S1 eq 20, S0 eqs 9-11) on the *current* contact surface,
+written on the reference surface with the mapping of the deformation
+(S0 eqs 12-13 and A.1-A.3 are the 2D version)::
+
+    div_s( phi_p(g) g^3 / (12 eta) grad_s p ) = div_s( U_m g theta )
+
+* ``g``: local gap (mean separation) between the rubber surface and the
+  counter-surface [m]; ``phi_p(g)`` the pressure flow factor of the
+  homogenised roughness (:func:`pressure_flow_factor`).
+* ``grad_s``: tangential gradient on the current surface.  For a field ``f``
+  on the reference surface (normal ``N``) with reference tangential gradient
+  ``G = (I - N N) Grad f``, the current one is ``(I - n n) F^-T G`` (it
+  reproduces ``df`` along every deformed tangent ``F T``; ``n`` is the
+  current normal from Nanson's formula).  The current area element is
+  ``da = J |F^-T N| dA``.  The Jacobian of the coupled problem contains the
+  derivatives of all these geometric terms (``ufl.derivative`` of the whole
+  residual).
+* ``U_m``: mean surface velocity, ``U/2`` for a counter-surface sliding at
+  ``U`` under a rubber body at rest, projected on the current tangent plane.
+
+Cavitation models (:attr:`FilmParams.cavitation`):
+
+* ``"none"``: full Sommerfeld, negative pressures allowed.
+* ``"reynolds"``: the Reynolds condition ``p >= 0`` as a variational
+  inequality (bounds for SNES VI); mass is not conserved where the film re-forms.
+* ``"jfo"``: mass-conserving Jakobsson-Floberg-Olsson (S0 eqs 10-11) with
+  the film fraction ``theta``: ``p >= 0``, ``0 <= theta <= 1``,
+  ``p (1 - theta) = 0``.  Written as a mixed complementarity problem for
+  SNES VI: the Reynolds (mass balance) rows hold as equalities everywhere,
+  and ``theta`` in ``[0, 1]`` is complementary to ``-p`` (lumped nodal rows),
+  i.e. ``theta = 1 => p >= 0`` and ``theta < 1 => p = 0``; ``p < 0`` is only
+  possible at ``theta = 0`` (total starvation).  The Couette term of
+  ``theta`` is pure transport in cavitated zones; it is fully upwinded
+  (one-point quadrature plus the streamline diffusion ``h / (2 |U_m|)``,
+  which turns the element flux into ``U_m g theta_upwind`` in 1D).  Both
+  terms are fluxes in conservative form, so the discrete mass balance holds
+  node by node across reformation fronts.
+
+Boundary of the lubricated zone: ambient pressure (0) and a flooded inlet
+(``theta = 1``) on its edges, except on ``no_flux_tags`` (symmetry planes),
+where the zero-flux condition is natural.
+
+Unknowns are scaled: the solver sees ``P = p / p_ref``, and the film rows are
+weighted so that a unit error in them is comparable to a nodal force error of
+the solid rows (DESIGN.md section 5: unscaled, the Reynolds rows are ~1e-9 of
+the elastic ones and SNES ignores them).
+
+Tractions on the rubber (S1 eq 29; S0 eq A.5): ``-(p + p_cont) n`` and the
+shear along the sliding direction ``tau = sigma_1 A/A0 + eta U theta / g -
+(g/2) dp/ds`` (the fluid shear on the surface at rest; ``theta = 1`` unless
+JFO).  The friction force on the sliding counter-surface is
+``int sigma_1 A/A0 + eta U theta / g + (g/2) dp/ds da`` (:meth:`friction_parts`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import dolfinx
+import numpy as np
+import ufl
+from mpi4py import MPI
+
+from dolfinx_seal.compat import interpolation_points
+from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.params import check_choice, check_positive, check_range
+from dolfinx_seal.solid import tractions
+from dolfinx_seal.solid.asperity import area_fraction
+
+CAVITATION_MODELS = ("none", "reynolds", "jfo")
+FLOW_FACTORS = ("none", "patir-cheng")
+
+
+@dataclass(frozen=True)
+class FilmParams:
+    """The lubricant film (SI units; the single source of its defaults).
+
+    Attributes:
+        viscosity: Dynamic viscosity eta [Pa s] (S1: 0.1).
+        speed: Sliding speed U of the counter-surface under the rubber at rest
+            [m/s]; the mean surface velocity is U/2.  0: no Couette term.
+        cavitation: ``none``, ``reynolds`` (p >= 0) or ``jfo`` (mass-conserving).
+        flow_factor: Pressure flow factor of the homogenised roughness:
+            ``none`` (phi_p = 1) or ``patir-cheng``.
+        upstream: Extent of the lubricated zone upstream of the contact centre,
+            in contact half-widths (radii) [-] (flooded inlet: 7-10 for Moes M <= 20).
+        downstream: Extent downstream, in contact half-widths [-].
+        asperity_shear: Frictional shear stress sigma_1 of the real contact
+            area [Pa] (S1 eq 29: tau = sigma_1 A/A0).
+        inlet_pressure: Pressure on the upstream edge of the lubricated zone
+            (gauge, relative to the cavitation pressure) [Pa].
+        outlet_pressure: Pressure on the downstream edge [Pa].
+        gap_floor: Smallest gap used in the film coefficients, in units of
+            h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates; a
+            converged Persson solution never reaches it).
+    """
+
+    viscosity: float = 0.1
+    speed: float = 0.0
+    cavitation: str = "reynolds"
+    flow_factor: str = "none"
+    upstream: float = 10.0
+    downstream: float = 6.0
+    asperity_shear: float = 1.0e6
+    gap_floor: float = 0.01
+    inlet_pressure: float = 0.0
+    outlet_pressure: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_positive("film.viscosity", self.viscosity, "Pa s")
+        check_range("film.speed", self.speed, 0.0, 1e3, unit="m/s")
+        check_choice("film.cavitation", self.cavitation, CAVITATION_MODELS)
+        check_choice("film.flow_factor", self.flow_factor, FLOW_FACTORS)
+        check_range("film.upstream", self.upstream, 1.0, 100.0)
+        check_range("film.downstream", self.downstream, 1.0, 100.0)
+        check_range("film.asperity_shear", self.asperity_shear, 0.0, 1e9, unit="Pa")
+        check_range("film.gap_floor", self.gap_floor, 0.0, 1.0, lo_open=True)
+        check_range("film.inlet_pressure", self.inlet_pressure, 0.0, 1e9, unit="Pa")
+        check_range("film.outlet_pressure", self.outlet_pressure, 0.0, 1e9, unit="Pa")
+
+
+@dataclass(frozen=True)
+class FilmScales:
+    """Scales of the film unknowns and rows.
+
+    Attributes:
+        pressure: Pressure scale p_ref [Pa] (e.g. the Hertz peak).
+        length: Contact half-width (radius) [m].
+        gap: Gap scale [m] (e.g. h_rms).
+        element: Element size on the contact [m].
+    """
+
+    pressure: float
+    length: float
+    gap: float
+    element: float
+
+
+def pressure_flow_factor(model: str, gap: Any, h_rms: float) -> Any:
+    """Pressure flow factor ``phi_p`` of the averaged Reynolds equation (UFL).
+
+    ``patir-cheng``: ``1 - 0.90 exp(-0.56 g / h_rms)`` (Patir & Cheng 1978,
+    isotropic roughness; the same fit as
+    :class:`dolfinx_seal.contact.flow_factors.PatirCheng`).
+    """
+    if model == "none":
+        return 1.0
+    if model == "patir-cheng":
+        return 1.0 - 0.90 * ufl.exp(-0.56 * gap / h_rms)
+    raise ParameterError(f"film.flow_factor = {model!r} must be one of {FLOW_FACTORS}")
+
+
+@dataclass
+class FilmContext:
+    """What the film needs from the body it lubricates (UFL objects).
+
+    Attributes:
+        mesh, facet_tags, contact_tag: The body and its lubricated surface.
+        x: Current position of the surface points (gdim vector).
+        F: 3x3 deformation gradient (identity for a rigid body).
+        N3: Reference outward normal as a 3-vector.
+        weight: Reference measure weight (1 in plane strain and 3D).
+        gap: Gap to the counter-surface [m].
+        vector3: Map of a gdim vector to a 3-vector.
+        e_n: Unit normal of the counter-surface pointing into the body (3-vector).
+        sliding: Unit sliding direction of the counter-surface (3-vector).
+    """
+
+    mesh: dolfinx.mesh.Mesh
+    facet_tags: dolfinx.mesh.MeshTags
+    contact_tag: int
+    x: Any
+    F: Any
+    N3: Any
+    weight: Any
+    gap: Any
+    vector3: Any
+    e_n: Any
+    sliding: Any
+
+
+class SurfaceFilm:
+    """Film unknowns, residuals, bounds and tractions on a lubricated surface.
+
+    Args:
+        params: :class:`FilmParams`.
+        scales: :class:`FilmScales`.
+        h_rms: Rms roughness of the homogenised scales [m] (flow factor, gap floor).
+        rms_slope: Rms slope of the roughness (real contact area for the
+            asperity shear); ``nan``: no asperity shear.
+        e_star: Effective modulus ``E*`` [Pa] (real contact area).
+        no_flux_tags: Facet tags where the film boundary is a symmetry plane.
+
+    After :meth:`attach`, :attr:`blocks` lists ``(residual, function, lower,
+    upper)`` per film unknown (pressure, and the film fraction for JFO),
+    :attr:`bcs` their Dirichlet conditions, :attr:`p` the fluid pressure [Pa]
+    (UFL) and :meth:`traction_work` the virtual work on the rubber.
+    """
+
+    def __init__(
+        self,
+        params: FilmParams,
+        scales: FilmScales,
+        h_rms: float,
+        rms_slope: float = math.nan,
+        e_star: float = math.nan,
+        no_flux_tags: Sequence[int] = (),
+    ) -> None:
+        self.params, self.scales = params, scales
+        self.h_rms = check_positive("h_rms", h_rms, "m")
+        self.rms_slope, self.e_star = rms_slope, e_star
+        self.no_flux_tags = tuple(no_flux_tags)
+        self.has_couette = params.speed > 0.0
+        self.has_theta = params.cavitation == "jfo"
+
+    # ------------------------------------------------------------------ set-up
+    def attach(self, ctx: FilmContext, p_cont: Any = None) -> None:
+        """Create the film unknowns and forms on ``ctx`` (``p_cont``: asperity pressure)."""
+        pr, sc = self.params, self.scales
+        mesh = ctx.mesh
+        self.ctx = ctx
+        S = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+        self.S = S
+        self.P = dolfinx.fem.Function(S, name="fluid_pressure_scaled")
+        q = ufl.TestFunction(S)
+        self.p = sc.pressure * self.P  # [Pa]
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=ctx.facet_tags)
+        self.ds = ds(ctx.contact_tag)
+        self.ds1 = ds(ctx.contact_tag, metadata={"quadrature_degree": 1})
+        self.ds_vertex = ds(
+            ctx.contact_tag, metadata={"quadrature_rule": "vertex", "quadrature_degree": 1}
+        )
+        dx = ufl.Measure("dx", domain=mesh)
+
+        nanson = tractions.nanson_normal(ctx.F, ctx.N3)
+        self.da = ufl.sqrt(ufl.dot(nanson, nanson)) * ctx.weight  # da / dA
+        self.n = nanson / ufl.sqrt(ufl.dot(nanson, nanson))
+        self.g = ufl.max_value(ctx.gap, pr.gap_floor * self.h_rms)
+        phi_p = pressure_flow_factor(pr.flow_factor, self.g, self.h_rms)
+        self.conductivity = phi_p * self.g**3 / (12.0 * pr.viscosity)  # m^3/(Pa s)
+        self.speed = dolfinx.fem.Constant(mesh, float(pr.speed))
+        t = ctx.sliding - ufl.dot(ctx.sliding, self.n) * self.n
+        self.t = t / ufl.sqrt(ufl.dot(t, t))  # current tangent along the sliding direction
+        self.U_m = 0.5 * self.speed * self.t  # projected mean velocity [m/s]
+
+        # row weight: flux residual [m^2/s] -> nodal force scale [N/m]
+        u_ref = max(pr.speed, 1e-300)
+        q_ref = sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length) + 0.5 * u_ref * sc.gap
+        self.row_weight = dolfinx.fem.Constant(mesh, sc.pressure * sc.element / q_ref)
+        self._q_ref_parts = (sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length), sc.gap)
+
+        if self.has_theta:
+            # a space of its own: blocked assembly matches Dirichlet conditions to
+            # blocks by function space, so theta must not share the pressure's
+            self.S_theta = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+            self.theta_fn = dolfinx.fem.Function(self.S_theta, name="film_fraction")
+            self.theta_fn.x.array[:] = 1.0
+            self.theta: Any = self.theta_fn
+        else:
+            self.theta_fn = None
+            self.theta = 1.0
+
+        grad_q = self.surface_grad(q)
+        R = self.conductivity * sc.pressure * ufl.dot(self.surface_grad(self.P), grad_q) * self.da
+        R = R * self.ds
+        if self.has_couette:
+            # one-point quadrature + streamline diffusion h/(2|U_m|): full upwinding of theta
+            R += -self.g * self.theta * ufl.dot(self.U_m, grad_q) * self.da * self.ds1
+            if self.has_theta:
+                h_e = self._element_size(mesh)
+                Um_abs = 0.5 * self.speed
+                R += (
+                    h_e
+                    / (2.0 * Um_abs)
+                    * self.g
+                    * ufl.dot(self.U_m, self.surface_grad(self.theta_fn))
+                    * ufl.dot(self.U_m, grad_q)
+                    * self.da
+                    * self.ds1
+                )
+        self.R_P = self.row_weight * R + dolfinx.fem.Constant(mesh, 0.0) * self.P * q * dx
+
+        bound_lo = 0.0 if pr.cavitation == "reynolds" else None
+        self.blocks: list[tuple[Any, dolfinx.fem.Function, Any, Any]] = [
+            (self.R_P, self.P, bound_lo, None)
+        ]
+        fixed, edge = self._fixed_dofs(ctx)
+        self.bcs = [
+            dolfinx.fem.dirichletbc(
+                self._boundary_pressure(ctx, edge), np.union1d(fixed, edge).astype(np.int32)
+            )
+        ]
+        self.film_dofs_local = np.setdiff1d(
+            np.arange(S.dofmap.index_map.size_local, dtype=np.int32), np.union1d(fixed, edge)
+        )
+        if self.has_theta:
+            psi = ufl.TestFunction(self.S_theta)
+            R_t = -sc.pressure * self.P * psi * self.ds_vertex
+            R_t += dolfinx.fem.Constant(mesh, 0.0) * self.theta_fn * psi * dx
+            self.blocks.append((R_t, self.theta_fn, 0.0, 1.0))
+            one = dolfinx.fem.Function(self.S_theta)
+            one.x.array[:] = 1.0
+            self.bcs.append(dolfinx.fem.dirichletbc(one, np.union1d(fixed, edge).astype(np.int32)))
+        self.p_cont = p_cont
+
+    def _boundary_pressure(self, ctx: FilmContext, edge: np.ndarray) -> dolfinx.fem.Function:
+        """Scaled boundary pressure: inlet value on upstream edge dofs, outlet downstream, 0 off the film."""
+        f = dolfinx.fem.Function(self.S)
+        pr = self.params
+        if pr.inlet_pressure == 0.0 and pr.outlet_pressure == 0.0:
+            return f
+        gdim = ctx.mesh.geometry.dim
+        e = np.array([float(ctx.sliding[i]) for i in range(gdim)])
+        s = self.S.tabulate_dof_coordinates()[:, :gdim] @ e
+        comm = ctx.mesh.comm
+        lo = comm.allreduce(float(s[edge].min(initial=np.inf)), op=MPI.MIN)
+        hi = comm.allreduce(float(s[edge].max(initial=-np.inf)), op=MPI.MAX)
+        mid = 0.5 * (lo + hi)
+        up = edge[s[edge] < mid]
+        down = edge[s[edge] >= mid]
+        f.x.array[up] = pr.inlet_pressure / self.scales.pressure
+        f.x.array[down] = pr.outlet_pressure / self.scales.pressure
+        return f
+
+    @staticmethod
+    def _element_size(mesh: dolfinx.mesh.Mesh) -> Any:
+        fa = ufl.FacetArea(mesh)
+        return fa if mesh.topology.dim == 2 else ufl.sqrt(2.0 * fa)
+
+    def _fixed_dofs(self, ctx: FilmContext) -> tuple[np.ndarray, np.ndarray]:
+        """Dofs (owned and ghost) off the lubricated surface, and on its edges.
+
+        Marked through a scattered indicator so that every rank agrees on the
+        dofs it shares.
+        """
+        mesh, S = ctx.mesh, self.S
+        fdim = mesh.topology.dim - 1
+        mesh.topology.create_connectivity(fdim, mesh.topology.dim)
+        contact = ctx.facet_tags.find(ctx.contact_tag)
+        ext = dolfinx.mesh.exterior_facet_indices(mesh.topology)
+        skip = np.concatenate([contact] + [ctx.facet_tags.find(t) for t in self.no_flux_tags])
+        others = np.setdiff1d(ext, skip)
+        on = self._marked(dolfinx.fem.locate_dofs_topological(S, fdim, contact))
+        near = self._marked(dolfinx.fem.locate_dofs_topological(S, fdim, others))
+        fixed = np.flatnonzero(~on).astype(np.int32)
+        edge = np.flatnonzero(on & near).astype(np.int32)
+        return fixed, edge
+
+    def _marked(self, dofs: np.ndarray) -> np.ndarray:
+        """Boolean array over owned + ghost dofs, true where any rank marked the dof."""
+        f = dolfinx.fem.Function(self.S)
+        f.x.array[dofs] = 1.0
+        f.x.scatter_reverse(dolfinx.la.InsertMode.add)
+        f.x.scatter_forward()
+        return f.x.array > 0.5
+
+    def surface_grad(self, f: Any) -> Any:
+        """Tangential gradient of ``f`` on the current surface (3-vector) [1/m]."""
+        G = self.ctx.vector3(ufl.grad(f))
+        N = self.ctx.N3
+        G = G - ufl.dot(G, N) * N
+        g = ufl.inv(self.ctx.F).T * G
+        return g - ufl.dot(g, self.n) * self.n
+
+    def set_speed(self, speed: float) -> None:
+        """Change the sliding speed U [m/s] (the film must have been built with U > 0)."""
+        if not self.has_couette:
+            raise ParameterError(
+                "film.speed: this film was built at zero speed (no Couette term); "
+                "build it with film.speed > 0 to sweep the speed"
+            )
+        check_range("film.speed", speed, 0.0, 1e3, lo_open=True, unit="m/s")
+        self.speed.value = float(speed)
+        poi, gap = self._q_ref_parts
+        self.row_weight.value = (
+            self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
+        )
+
+    # ---------------------------------------------------------------- physics
+    def shear_on_rubber(self) -> Any:
+        """Shear stress on the rubber along :attr:`t` [Pa] (fluid + asperities)."""
+        pr = self.params
+        tau = -0.5 * self.g * ufl.dot(self.t, self.surface_grad(self.p))
+        if self.has_couette:
+            tau += pr.viscosity * self.speed * self.theta / self.g
+        tau += self.asperity_shear()
+        return tau
+
+    def asperity_shear(self) -> Any:
+        """``sigma_1 A/A0`` [Pa] (0 without contact pressure or rms slope)."""
+        if (
+            self.p_cont is None
+            or not math.isfinite(self.rms_slope)
+            or self.params.asperity_shear == 0
+        ):
+            return 0.0
+        return self.params.asperity_shear * area_fraction(self.p_cont, self.e_star, self.rms_slope)
+
+    def friction_parts(self) -> dict[str, Any]:
+        """Integrands (per reference area) of the friction force on the counter-surface [Pa].
+
+        Keys ``couette``, ``poiseuille``, ``asperity``; each multiplies ``da/dA``.
+        """
+        pr = self.params
+        out = {
+            "poiseuille": 0.5 * self.g * ufl.dot(self.t, self.surface_grad(self.p)) * self.da,
+            "asperity": self.asperity_shear() * self.da,
+        }
+        if self.has_couette:
+            out["couette"] = pr.viscosity * self.speed * self.theta / self.g * self.da
+        return out
+
+    def traction_work(self, v3: Any) -> Any:
+        """Virtual work of the fluid pressure and of the shear on the rubber (a residual term)."""
+        ctx = self.ctx
+        w = tractions.pressure_work(self.p, ctx.F, ctx.N3, v3, ctx.weight, self.ds)
+        tau = self.shear_on_rubber()
+        w += tau * ufl.dot(self.t, v3) * self.da * self.ds
+        return -w
+
+    def normal_force_integrand(self) -> Any:
+        """Fluid force on the body along the counter normal, per reference area [Pa]."""
+        nanson = tractions.nanson_normal(self.ctx.F, self.ctx.N3)
+        return -self.p * ufl.dot(nanson, self.ctx.e_n) * self.ctx.weight
+
+    # ---------------------------------------------------------------- outputs
+    def film_values(self) -> dict[str, np.ndarray]:
+        """Nodal values on the lubricated surface, gathered and sorted by reference x.
+
+        Keys: ``X`` (reference coordinates), ``x`` (current), ``p`` [Pa],
+        ``theta``, ``gap`` [m]; only the dofs of the lubricated surface.
+        """
+        ctx, S = self.ctx, self.S
+        fdim = ctx.mesh.topology.dim - 1
+        dofs = dolfinx.fem.locate_dofs_topological(S, fdim, ctx.facet_tags.find(ctx.contact_tag))
+        dofs = dofs[dofs < S.dofmap.index_map.size_local]
+        pts = interpolation_points(S.element)
+        vals = {}
+        gdim = ctx.mesh.geometry.dim
+        for name, expr in [("gap", ctx.gap), *((f"x{i}", ctx.x[i]) for i in range(gdim))]:
+            f = dolfinx.fem.Function(S)
+            f.interpolate(dolfinx.fem.Expression(expr, pts))
+            vals[name] = f.x.array[dofs]
+        X = S.tabulate_dof_coordinates()[dofs][:, :gdim]
+        out = {
+            "X": X,
+            "x": np.column_stack([vals[f"x{i}"] for i in range(gdim)]),
+            "p": self.scales.pressure * self.P.x.array[dofs],
+            "theta": self.theta_fn.x.array[dofs] if self.has_theta else np.ones(dofs.size),
+            "gap": vals["gap"],
+        }
+        comm = ctx.mesh.comm
+        if comm.size > 1:
+            out = {k: np.concatenate(comm.allgather(v)) for k, v in out.items()}
+        order = np.lexsort(out["X"].T[::-1])
+        return {k: v[order] for k, v in out.items()}
+
+    def mass_balance_error(self) -> float:
+        """Largest nodal mass imbalance of the film, relative to the inflow.
+
+        The Reynolds rows (unweighted, SI) at the free film nodes are nodal net
+        fluxes [m^2/s]; on the edges of the lubricated zone they are the
+        boundary in/outflows.  Returns ``max |R_i|`` over free nodes where the
+        film is not cavitated under the Reynolds condition (there mass is not
+        conserved by construction), divided by the total inflow.  0 at zero
+        speed (no flow).
+        """
+        if not self.has_couette:
+            return 0.0
+        R = dolfinx.fem.assemble_vector(dolfinx.fem.form(self.R_P))
+        R.scatter_reverse(dolfinx.la.InsertMode.add)
+        w = float(self.row_weight.value)
+        r = R.array[: self.S.dofmap.index_map.size_local] / w
+        free = self.film_dofs_local
+        if self.params.cavitation == "reynolds":
+            free = free[self.P.x.array[free] > 0.0]
+        interior = float(np.abs(r[free]).max(initial=0.0))
+        comm = self.ctx.mesh.comm
+        interior = comm.allreduce(interior, op=MPI.MAX)
+        # the inflow: sum of the negative nodal fluxes on the edges
+        _, edge = self._fixed_dofs(self.ctx)
+        edge = edge[edge < self.S.dofmap.index_map.size_local]
+        inflow = comm.allreduce(float(np.abs(r[edge]).sum()), op=MPI.SUM) / 2.0
+        return interior / inflow if inflow > 0 else 0.0
+
+
+__all__ = [
+    "CAVITATION_MODELS",
+    "FLOW_FACTORS",
+    "FilmContext",
+    "FilmParams",
+    "FilmScales",
+    "SurfaceFilm",
+    "pressure_flow_factor",
+]
