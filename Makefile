@@ -24,7 +24,9 @@ lint:  ## ruff runs on the host (no DOLFINx needed)
 	ruff format --check . && ruff check .
 
 bench:  ## benchmarks write into bench/results/
-	$(DX) python3 bench/run.py
+	$(DX) python3 bench/reynolds_scaling.py
+	$(DX) python3 bench/coupled_vs_partitioned.py
+	$(DX) python3 bench/cylinder_newton_vs_mesh.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"

@@ -32,12 +32,15 @@ class SpeedStepping:
         min_decades: Smallest step before a target is given up [decades].
         grow: Step growth after an easy step.
         easy: Newton steps counted as easy.
+        predictor: Start each step from the secant extrapolation (in log speed)
+            of the last two converged states.
     """
 
     max_decades: float = 0.5
     min_decades: float = 0.005
     grow: float = 1.5
     easy: int = 8
+    predictor: bool = True
 
     def __post_init__(self) -> None:
         check_range("max_decades", self.max_decades, 0.0, 3.0, lo_open=True)
@@ -77,6 +80,8 @@ def speed_sweep(
     log = get_logger()
     records: list[SweepRecord] = []
     step = st.max_decades
+    # the last two converged (log10 speed, state): a secant predictor in log speed
+    history: list[tuple[float, list[Any]]] = [(math.log10(float(film.speed.value)), prob._state())]
     for target in speeds:
         check_positive("speed", target, "m/s")
         rec = SweepRecord(speed=float(target), converged=False)
@@ -90,6 +95,10 @@ def speed_sweep(
             s_try = target if abs(dist) <= step else current * 10 ** math.copysign(step, dist)
             saved = prob._state()
             film.set_speed(s_try)
+            if st.predictor and len(history) == 2:
+                (la, sa), (lb, sb) = history
+                r = (math.log10(s_try) - lb) / (lb - la)
+                prob._restore([b + r * (b - a) for a, b in zip(sa, sb, strict=True)])
             try:
                 hist = prob.solver.solve(where=f"{prob.name} at speed {s_try:.4g} m/s")
             except SolverError as e:
@@ -109,6 +118,7 @@ def speed_sweep(
             if s_try != target:
                 rec.intermediate.append(s_try)
             current = s_try
+            history = [history[-1], (math.log10(s_try), prob._state())]
             if hist.newton_iterations <= st.easy:
                 step = min(step * st.grow, st.max_decades)
         rec.wall_time_s = time.perf_counter() - t0

@@ -327,6 +327,28 @@ class SurfaceFilm:
         f.x.array[down] = pr.outlet_pressure / self.scales.pressure
         return f
 
+    def make_solver(
+        self, options: Any, extra_blocks: Sequence[Any] = (), name: str = "film"
+    ) -> Any:
+        """A :class:`~dolfinx_seal.solvers.NonlinearSolver` on the film unknowns alone
+        (geometry frozen), optionally with further ``(residual, unknown, lower, upper)``
+        blocks (e.g. the counter position)."""
+        from dolfinx_seal.solvers import NonlinearSolver
+
+        fb = list(self.blocks) + list(extra_blocks)
+        lower = [b[2] for b in fb]
+        upper = [b[3] for b in fb]
+        bounded = any(v is not None for v in lower + upper)
+        if len(fb) == 1:
+            return NonlinearSolver(
+                fb[0][0], fb[0][1], self.bcs, options=options, name=name,
+                lower=lower[0] if bounded else None, upper=upper[0] if bounded else None,
+            )  # fmt: skip
+        return NonlinearSolver(
+            [b[0] for b in fb], [b[1] for b in fb], self.bcs, options=options, name=name,
+            lower=lower if bounded else None, upper=upper if bounded else None,
+        )  # fmt: skip
+
     @staticmethod
     def _element_size(mesh: dolfinx.mesh.Mesh) -> Any:
         fa = ufl.FacetArea(mesh)

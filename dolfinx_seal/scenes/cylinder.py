@@ -129,7 +129,7 @@ def run(params: CylinderParameters, out: Path) -> dict[str, Any]:
     return run_dry(params, out)
 
 
-def _mesh(params: CylinderParameters, a_h: float) -> Any:
+def _mesh(params: CylinderParameters, a_h: float, comm: Any = None) -> Any:
     """The cylinder mesh; lubricated: the contact arc is the lubricated zone."""
     extra = {}
     if params.lubricated:
@@ -137,19 +137,28 @@ def _mesh(params: CylinderParameters, a_h: float) -> Any:
             contact_upstream=params.film.upstream, contact_downstream=params.film.downstream
         )
     return create_mesh(
-        "cylinder", comm=COMM_WORLD, radius=params.radius, contact_half_width=a_h,
+        "cylinder", comm=comm or COMM_WORLD, radius=params.radius, contact_half_width=a_h,
         h_contact=params.h_contact, h_arc=max(4 * params.h_contact, min(60e-6, a_h)), **extra,
     )  # fmt: skip
 
 
-def build_lubricated(params: CylinderParameters) -> tuple[SolidContactProblem, dict[str, Any]]:
-    """The coupled problem (film on) and scalars describing it."""
+def build_lubricated(
+    params: CylinderParameters, comm: Any = None, position: float | None = None
+) -> tuple[SolidContactProblem, dict[str, Any]]:
+    """The coupled problem (film on) and scalars describing it.
+
+    Args:
+        params: Scene parameters.
+        comm: Communicator (default COMM_WORLD).
+        position: None: force control (the flat's position is an unknown);
+            otherwise the flat's fixed position [m] (position control).
+    """
     e_star = params.material.E_star
     a_h, p_h = hertz_line(params.load, params.radius, e_star)
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
     h_rms = params.roughness.h_rms
     rms_slope = getattr(law, "rms_slope", math.nan) if law is not None else math.nan
-    tm = _mesh(params, a_h)
+    tm = _mesh(params, a_h, comm)
     film = SurfaceFilm(
         params.film, FilmScales(pressure=p_h, length=a_h, gap=h_rms, element=params.h_contact),
         h_rms=h_rms, rms_slope=rms_slope, e_star=e_star,
@@ -160,8 +169,11 @@ def build_lubricated(params: CylinderParameters) -> tuple[SolidContactProblem, d
     )  # fmt: skip
     prob = SolidContactProblem(
         tm.mesh, tm.facet_tags, PlaneStrain(), params.material.build() if params.bulk else None,
-        Flat(axis=1), law, tm.tag("contact"), [Dirichlet(tm.tag("load"))], control="force",
-        target=params.load, degree=params.degree, snes=snes, name="cylinder",
+        Flat(axis=1), law, tm.tag("contact"), [Dirichlet(tm.tag("load"))],
+        control="force" if position is None else "position",
+        target=params.load if position is None else position,
+        position0=0.0 if position is None else position,
+        degree=params.degree, snes=snes, name="cylinder",
         max_step=0.5 * params.h_contact if params.bulk else None, film=film, bulk=params.bulk,
     )  # fmt: skip
     info = {
@@ -191,9 +203,15 @@ def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> d
         guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))
         peak_gap = separation_of(prob.law, p_h) if prob.law is not None else params.roughness.h_rms
         its += prob.warm_start(guess, peak_gap)
-    else:
-        h0 = 4.9 * params.film.viscosity * 0.5 * max(target, 1e-12) * params.radius / params.load
-        prob.position.x.array[:] = -max(h0, params.roughness.h_rms)
+    else:  # rigid: the film at the Martin film thickness first, then the coupled solve
+        if prob.control == "force":
+            h0 = 4.9 * params.film.viscosity * 0.5 * max(target, 1e-12) * params.radius
+            prob.position.x.array[:] = -max(h0 / params.load, params.roughness.h_rms)
+        else:
+            prob.set_fraction(1.0)
+        pre = prob.film.make_solver(prob.solver.options, name="cylinder film start")
+        its += pre.solve(where="cylinder: film at the guessed film thickness").newton_iterations
+        pre.destroy()
     strategy = "direct"
     warm = prob._state()
     try:

@@ -246,6 +246,10 @@ class SolidContactProblem:
             else:
                 energy = material.strain_energy(self.F, self.p_mix)
             R_w = ufl.derivative(energy * self.weight * self.dx, self.w, vw)
+            if self.mixed:  # keep the (zero for nu = 0.5) diagonal of the mixed pressure in
+                # the sparsity: semismooth VI solvers scale and shift the diagonal
+                q_mix = ufl.split(vw)[1]
+                R_w += dolfinx.fem.Constant(mesh, 0.0) * self.p_mix * q_mix * self.dx
             if self.p_cont is not None:
                 R_w += -tractions.pressure_work(
                     self.p_cont, self.F, self.N3, self.v3, self.weight, self.ds_c
@@ -278,8 +282,11 @@ class SolidContactProblem:
             R_r = f_n * mu * self.ds_c - self.load / vol * mu * self.dx
             blocks.append((R_r, self.position, None, None))
         self.blocks = blocks
+        self.max_step, self.max_gap_step = max_step, max_gap_step
         bulk_limits = self.bulk and (max_step or max_gap_step)
         limiter = self._step_limiter(max_step, max_gap_step) if bulk_limits else None
+        if not self.bulk and control == "force":
+            limiter = self._rigid_gap_limiter()
         self._max_step_limiter = (
             self._step_limiter(max_step, None) if (max_step and self.bulk) else None
         )
@@ -322,10 +329,16 @@ class SolidContactProblem:
         return bcs
 
     def _step_limiter(
-        self, max_step: float | None, max_gap_step: float | None
+        self,
+        max_step: float | None,
+        max_gap_step: float | None,
+        blocks: Sequence[Any] | None = None,
     ) -> Callable[[np.ndarray, np.ndarray], float]:
         """Pre-check scaling a Newton step so that no displacement dof moves more than
         ``max_step`` and no contact gap changes by more than ``max_gap_step``.
+
+        ``blocks``: the block layout of the solver it serves (default the
+        problem's); the counter position counts when it is the last block.
 
         The displacement dofs come first in the (block) vector, so their local
         indices are those of the collapsed displacement sub-space (owned part);
@@ -352,10 +365,12 @@ class SolidContactProblem:
         if max_gap_step:
             check_positive("max_gap_step", max_gap_step, "m")
         comm = self.mesh.comm
+        blocks = self.blocks if blocks is None else blocks
+        position_free = self.control == "force" and blocks[-1][1] is self.position
         pos_index = sum(
             b[1].function_space.dofmap.index_map.size_local
             * b[1].function_space.dofmap.index_map_bs
-            for b in self.blocks[:-1]
+            for b in blocks[:-1]
         )
 
         def limit(x: np.ndarray, dx: np.ndarray) -> float:
@@ -366,13 +381,37 @@ class SolidContactProblem:
                     s = min(s, max_step / big)
             if max_gap_step:
                 dpos = 0.0
-                if self.control == "force":  # the position dof is the last block
+                if position_free:  # the position dof is the last block
                     mine = float(dx[pos_index]) if self._owns_position else None
                     dpos = comm.bcast(mine, root=self._pos_root)
                 dgap = np.abs(dx[ndofs] - dpos).max(initial=0.0)
                 if dgap > max_gap_step:
                     s = min(s, max_gap_step / dgap)
             return s
+
+        return limit
+
+    def _rigid_gap_limiter(self) -> Callable[[np.ndarray, np.ndarray], float]:
+        """Pre-check for a rigid body under force control: one Newton step may change
+        the smallest gap by at most half of itself (the film conductance ~ g^3
+        makes a full step from a poor guess overshoot by decades)."""
+        _, xn = self.surface_values(self.counter.gap(self.X, 0.0))
+        lowest = float(xn.min())
+        comm = self.mesh.comm
+        pos_index = sum(
+            b[1].function_space.dofmap.index_map.size_local
+            * b[1].function_space.dofmap.index_map_bs
+            for b in self.blocks[:-1]
+        )
+
+        def limit(x: np.ndarray, dx: np.ndarray) -> float:
+            mine = (float(x[pos_index]), float(dx[pos_index])) if self._owns_position else None
+            pos, dpos = comm.bcast(mine, root=self._pos_root)
+            gap0 = lowest - pos
+            # the gap changes by dpos: at most half of itself per step, either way
+            if gap0 > 0 and abs(dpos) > 0.5 * gap0:
+                return 0.5 * gap0 / abs(dpos)
+            return 1.0
 
         return limit
 

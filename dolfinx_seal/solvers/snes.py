@@ -415,6 +415,15 @@ class NonlinearSolver:
             self._snes_penalty = self._make_snes(pen, self.prefix + "penalty_", bounded=False)
             self._snes_penalty.setDivergenceTolerance(1e300)
 
+    def set_snes_type(self, snes_type: str) -> None:
+        """Switch the SNES type (e.g. ``vinewtonrsls`` <-> ``vinewtonssls``) in place."""
+        check_choice("snes_type", snes_type, ("newtonls", *_VI_TYPES))
+        self.options = _replace(self.options, snes_type=snes_type)
+        # a new SNES: the KSP of a reduced-space VI keeps the reduced operator's size
+        PETSc.Options()[self.prefix + "snes_type"] = snes_type
+        self._snes.destroy()
+        self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
+
     def residual_scale(self) -> float:
         """Norm of the residual at zero unknowns, ``|F(0)|``: the scale of the forcing.
 

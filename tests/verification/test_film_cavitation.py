@@ -20,11 +20,17 @@ CASES = {"almqvist-pocket": ref.pocket_slider_benchmark, "textured": ref.texture
 @pytest.fixture(scope="module", params=list(CASES))
 def case(request):
     gap, op = CASES[request.param]()
-    return request.param, gap, op, ref.jfo_solution(gap, op), ref.reynolds_condition_solution(gap, op)
+    return (
+        request.param,
+        gap,
+        op,
+        ref.jfo_solution(gap, op),
+        ref.reynolds_condition_solution(gap, op),
+    )
 
 
 def test_jfo_conserves_mass_across_the_reformation_front(case):
-    name, gap, op, jfo, _ = case
+    _, gap, op, jfo, _ = case
     cells = 1000
     s = RigidSliderFilm(gap, op, cells, "jfo")
     s.solve()
@@ -53,7 +59,7 @@ def test_jfo_conserves_mass_across_the_reformation_front(case):
 def test_reynolds_condition_loses_mass_and_overestimates_the_load(case):
     """The Reynolds condition re-forms the film at the pocket edge without the mass
     to fill it (a flux jump), and predicts a much larger load than JFO."""
-    name, gap, op, jfo, rey = case
+    _, gap, op, jfo, rey = case
     s = RigidSliderFilm(gap, op, 1000, "reynolds")
     s.solve()
     q = s.quantities()

@@ -24,7 +24,9 @@ A_H, P_H = hertz_line(100.0, 0.01, 10e6 / 0.75)
 
 
 def _run(tmp, **values):
-    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}, "lubricated": False, **values})
+    p = make_parameters(
+        "cylinder", values={"contact": {"model": "stiff"}, "lubricated": False, **values}
+    )
     return run_scene("cylinder", p, tmp)
 
 

@@ -1,0 +1,146 @@
+"""Benchmark: monolithic Newton against the seeds' partitioned scheme, lubricated cylinder.
+
+One run, one mesh (the S1 figure-4 cylinder, ``--h-contact``), three speeds
+(boundary, mixed, hydrodynamic lubrication).  At each speed both schemes start
+from the same state: the converged solution at a speed half a decade lower
+(a sweep step).  Measured: wall time and iterations of
+
+* the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``);
+* the partitioned scheme (:mod:`dolfinx_seal.coupled.partitioned`) at the
+  seeds' relaxation factors (0.01, 0.03, 0.1) and at larger ones, stopped at a
+  relative fluid-pressure change of ``--tol`` or after ``--budget`` seconds;
+* one linear-elastic solve on the same mixed u-p space (assembly + MUMPS LU +
+  solve) under the Hertz pressure: the unit cost of a coupled point.
+
+Writes ``coupled_vs_partitioned.csv`` and prints a markdown table.
+
+Run:  scripts/dx python3 bench/coupled_vs_partitioned.py [--out bench/results]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import ufl
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
+from dolfinx_seal.coupled.results import lubricated_results
+from dolfinx_seal.errors import SolverError
+from dolfinx_seal.mpi import bcast_path, print0
+from dolfinx_seal.output import SweepWriter
+from dolfinx_seal.scenes import make_parameters
+from dolfinx_seal.scenes.common import hertz_line
+from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
+from dolfinx_seal.solid.materials import LinearElastic
+from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+
+
+def linear_elastic_solve_time(prob, params) -> float:
+    """Wall time of one linear-elastic solve on the problem's displacement space."""
+    mat = LinearElastic(params.material.E, params.material.nu, formulation="mixed")
+    a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
+    X = prob.X
+    w = prob.w.copy()
+    w.x.array[:] = 0.0
+    vw = ufl.TestFunction(prob.W)
+    u, p_mix = ufl.split(w)
+    v, _ = ufl.split(vw)
+    energy = mat.small_strain_energy(prob.kin.eps(u), p_mix)
+    R = ufl.derivative(energy * prob.dx, w, vw)
+    pr = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))
+    R += pr * ufl.dot(prob.N3, prob.kin.vector3(v)) * prob.ds_c
+    s = NonlinearSolver(R, w, prob._dirichlet_bcs, options=SNESOptions(), name="linear elastic")
+    t0 = time.perf_counter()
+    s.solve()
+    t = time.perf_counter() - t0
+    s.destroy()
+    return t
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--speeds", type=float, nargs="+", default=[1e-5, 1e-3, 1e-1])
+    parser.add_argument("--relaxations", type=float, nargs="+",
+                        default=[0.01, 0.03, 0.1, 0.3, 0.5, 1.0])  # fmt: skip
+    parser.add_argument("--h-contact", type=float, default=10e-6)
+    parser.add_argument("--tol", type=float, default=1e-6)
+    parser.add_argument("--budget", type=float, default=300.0, help="seconds per partitioned run")
+    parser.add_argument("--out", default="bench/results")
+    args = parser.parse_args(argv)
+    out = bcast_path(args.out)
+    w = SweepWriter(out, "coupled_vs_partitioned.csv")
+    p0 = make_parameters("cylinder", values={"h_contact": args.h_contact,
+                                             "film": {"speed": args.speeds[0] / 10**0.5}})  # fmt: skip
+    prob, _ = build_lubricated(p0)
+    start_lubricated(prob, p0)
+    t_lin = linear_elastic_solve_time(prob, p0)
+    print0(f"dofs {prob.dof_counts()}; one linear-elastic solve: {t_lin:.3f} s")
+    print0("| speed [m/s] | scheme | relaxation | iterations | Newton steps | wall time [s] | "
+           "x linear solve | x monolithic | mu rel. diff | converged |")  # fmt: skip
+    print0("|---|---|---|---|---|---|---|---|---|---|")
+    for v in args.speeds:
+        prob.film.set_speed(v / 10**0.5)
+        prob.solver.solve(where="bench start")
+        start = prob._state()
+        rows = []
+        mono = {}
+        for snes_type in ("vinewtonrsls", "vinewtonssls"):
+            prob._restore(start)
+            prob.solver.set_snes_type(snes_type)
+            prob.film.set_speed(v)
+            t0 = time.perf_counter()
+            try:
+                its = prob.solver.solve(where=f"bench {snes_type}").newton_iterations
+                ok = True
+            except SolverError:
+                its, ok = -1, False
+            t = time.perf_counter() - t0
+            mono[snes_type] = (t, lubricated_results(prob)["mu"] if ok else float("nan"))
+            rows.append(dict(speed=v, scheme=f"monolithic {snes_type}", relaxation=float("nan"),
+                             iterations=1, newton=its, time=t, converged=ok))  # fmt: skip
+        prob.solver.set_snes_type("vinewtonrsls")
+        t_ref, mu_ref = mono["vinewtonrsls"]
+        for om in args.relaxations:
+            prob._restore(start)
+            prob.film.set_speed(v)
+            ps = PartitionedSolver(prob)
+            t0 = time.perf_counter()
+            try:
+                rep = ps.solve(
+                    PartitionedOptions(relaxation=om, tol=args.tol, max_time_s=args.budget)
+                )
+                ok, iters, newton = (
+                    rep.converged,
+                    rep.iterations,
+                    rep.newton_solid + rep.newton_film,
+                )
+            except SolverError:
+                ok, iters, newton = False, -1, -1
+            t = time.perf_counter() - t0
+            ps.destroy()
+            mu = lubricated_results(prob)["mu"] if ok else float("nan")
+            rows.append(dict(speed=v, scheme="partitioned", relaxation=om, iterations=iters,
+                             newton=newton, time=t, converged=ok, mu=mu))  # fmt: skip
+        for r in rows:
+            r["x_linear"] = r["time"] / t_lin
+            r["x_monolithic"] = r["time"] / t_ref
+            r["mu_rel_diff"] = abs(r.get("mu", mu_ref) / mu_ref - 1.0)
+            r["linear_solve_s"] = t_lin
+            w.append({k: r.get(k, float("nan")) for k in (
+                "speed", "scheme", "relaxation", "iterations", "newton", "time", "x_linear",
+                "x_monolithic", "mu_rel_diff", "converged", "linear_solve_s")})  # fmt: skip
+            print0(f"| {v:.0e} | {r['scheme']} | {r['relaxation']:.2g} | {r['iterations']} | "
+                   f"{r['newton']} | {r['time']:.2f} | {r['x_linear']:.1f} | {r['x_monolithic']:.1f} | "
+                   f"{r['mu_rel_diff']:.1e} | {r['converged']} |")  # fmt: skip
+        prob._restore(start)
+        prob.film.set_speed(v)
+        prob.solver.solve(where="bench continue")
+
+
+if __name__ == "__main__":
+    main()
