@@ -4,7 +4,8 @@ Sweeps ``dolfinx-seal sweep cylinder`` over speed for
 
 * h_rms = 1, 3, 6 um at E = 10 MPa (S1 figures 8-10: the minimum moves with h_rms);
 * E = 10 MPa, 100 MPa, 1 GPa with the Reynolds condition and without
-  cavitation (full Sommerfeld) (S1 figures 12, 14-15);
+  cavitation (full Sommerfeld) (S1 figures 12, 14-15), with S1's asperity
+  shear stress sigma_1 = 1, 10, 100 MPa (E / 10);
 
 and writes ``stribeck.png`` (all curves), ``minima.csv`` (speed and mu at
 each curve's minimum) and one folder per curve (``sweep.csv``, ``sweep.png``).
@@ -33,10 +34,17 @@ CURVES = {
     "h3um": {"roughness": {"h_rms": 3e-6}},
     "h6um": {"roughness": {"h_rms": 6e-6}},
     "h1um-nocav": {"roughness": {"h_rms": 1e-6}, "film": {"cavitation": "none"}},
-    "E100MPa": {"material": {"E": 100e6}},
-    "E100MPa-nocav": {"material": {"E": 100e6}, "film": {"cavitation": "none"}},
-    "E1GPa": {"material": {"E": 1e9}},
-    "E1GPa-nocav": {"material": {"E": 1e9}, "film": {"cavitation": "none"}},
+    # S1 figures 14-15: sigma_1 = 10 MPa at E = 100 MPa, 100 MPa at E = 1 GPa
+    "E100MPa": {"material": {"E": 100e6}, "film": {"asperity_shear": 10e6}},
+    "E100MPa-nocav": {
+        "material": {"E": 100e6},
+        "film": {"asperity_shear": 10e6, "cavitation": "none"},
+    },
+    "E1GPa": {"material": {"E": 1e9}, "film": {"asperity_shear": 100e6}},
+    "E1GPa-nocav": {
+        "material": {"E": 1e9},
+        "film": {"asperity_shear": 100e6, "cavitation": "none"},
+    },
 }
 
 

@@ -37,7 +37,7 @@ from dolfinx_seal.coupled.results import lubricated_results, write_film_profile
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
@@ -185,15 +185,24 @@ def build_lubricated(
     return prob, info
 
 
+def start_speed(params: CylinderParameters) -> float:
+    """A speed of boundary lubrication [m/s], where the coupled Newton starts from the
+    dry (Hertz) shape: the film estimate of S1 (after fig 15) ``u = (0.2 eta v a / p_mean)^(1/2)``
+    equal to ``h_rms / 30``, i.e. ``v = (h_rms / 30)^2 p_mean / (0.2 eta a)``."""
+    a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
+    p_mean = math.pi / 4.0 * p_h
+    return (params.roughness.h_rms / 30.0) ** 2 * p_mean / (0.2 * params.film.viscosity * a_h)
+
+
 def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> dict[str, Any]:
     """Bring the coupled problem to its first converged state at ``film.speed``.
 
-    Deformable: deformation under the Hertz pressure (warm start), then one
-    coupled Newton solve; if that fails, a solve at a speed 1e-3 times lower
-    (boundary lubrication, nearly dry) and speed continuation up.  Rigid: the
-    flat starts at the Martin film thickness of the load.
+    Deformable: deformation under the Hertz pressure (warm start), one coupled
+    Newton solve at ``min(film.speed, start_speed)`` (boundary lubrication:
+    the film carries little and the dry shape is a good start), then speed
+    continuation up to ``film.speed``.  Rigid: the film at the Martin film
+    thickness of the load, then the coupled solve.
     """
-    log = get_logger()
     t0 = time.perf_counter()
     a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
     its = 0
@@ -212,26 +221,21 @@ def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> d
         pre = prob.film.make_solver(prob.solver.options, name="cylinder film start")
         its += pre.solve(where="cylinder: film at the guessed film thickness").newton_iterations
         pre.destroy()
+    v0 = min(target, start_speed(params)) if (prob.bulk and target > 0) else target
     strategy = "direct"
-    warm = prob._state()
-    try:
-        its += prob.solve_at(1.0)
-    except SolverError as e:
-        if target == 0.0:
-            raise
-        log.info("direct coupled solve failed (%s); speed continuation", e.what)
-        prob._restore(warm)
-        prob.film.set_speed(1e-3 * target)
-        its += prob.solve_at(1.0)
+    if v0 < target:
+        prob.film.set_speed(v0)
+    its += prob.solve_at(1.0, where=f"cylinder at speed {v0:.3g} m/s (start)")
+    if v0 < target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, params.stepping)
         if not recs[-1].converged:
             raise SolverError(
                 f"coupled solve did not reach film.speed = {target:g} m/s: {recs[-1].error}",
                 where="cylinder start",
                 partial={"speed": float(prob.film.speed.value)},
-            ) from e
+            )
         its += recs[-1].newton_iterations
-        strategy = f"speed continuation ({recs[-1].steps} steps)"
+        strategy = f"start at {v0:.3g} m/s, speed continuation ({recs[-1].steps} steps)"
     return {
         "newton_iterations": its,
         "solve_time_s": time.perf_counter() - t0,

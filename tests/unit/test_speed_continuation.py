@@ -1,0 +1,87 @@
+"""Speed continuation bookkeeping (no FEM): failed targets are recorded, the sweep goes
+on from the last good state, finished points are never lost."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from dolfinx_seal.coupled.continuation import SpeedStepping, order_speeds, speed_sweep
+from dolfinx_seal.errors import ParameterError, SolveHistory, SolverError
+
+
+class _Speed:
+    def __init__(self, v: float) -> None:
+        self.value = v
+
+
+class _Film:
+    def __init__(self, v: float) -> None:
+        self.speed = _Speed(v)
+
+    def set_speed(self, v: float) -> None:
+        self.speed.value = v
+
+
+class _Solver:
+    """Converges in 3 steps unless the speed lies in a forbidden band or jumps too far."""
+
+    def __init__(self, prob: _Problem) -> None:
+        self.prob = prob
+
+    def solve(self, where: str = "") -> SolveHistory:
+        p = self.prob
+        v = p.film.speed.value
+        jump = abs(math.log10(v / p.state[0]))
+        if p.bad[0] <= v <= p.bad[1] or jump > p.max_jump:
+            p.state = [float("nan")]  # a failed solve leaves garbage behind
+            raise SolverError("diverged", where=where)
+        p.state = [v]
+        h = SolveHistory()
+        h.residual_norms = [1.0, 0.1, 1e-5, 1e-12]
+        return h
+
+
+class _Problem:
+    name = "fake"
+
+    def __init__(self, v0: float, bad: tuple[float, float], max_jump: float = 10.0) -> None:
+        self.film = _Film(v0)
+        self.state = [v0]  # the "solution" remembers the speed it was solved at
+        self.bad, self.max_jump = bad, max_jump
+        self.solver = _Solver(self)
+
+    def _state(self) -> list[float]:
+        return list(self.state)
+
+    def _restore(self, s: list[float]) -> None:
+        self.state = list(s)
+
+
+def test_unreachable_target_is_recorded_and_the_sweep_goes_on():
+    prob = _Problem(1e-4, bad=(0.9e-2, 1.1e-2))
+    done = []
+    recs = speed_sweep(prob, [1e-3, 1e-2, 1e-1], lambda v, r: done.append(v), lambda: {},
+                       SpeedStepping(predictor=False))  # fmt: skip
+    assert [r.converged for r in recs] == [True, False, True]
+    assert done == [1e-3, 1e-1]  # the finished points, in order
+    assert "diverged" in recs[1].error
+    assert prob.state == [1e-1]  # restored after each failure, then went on
+
+
+def test_large_jumps_are_cut_into_steps():
+    prob = _Problem(1e-6, bad=(1.0, 1.0), max_jump=0.3)
+    recs = speed_sweep(prob, [1e-2], lambda v, r: None, lambda: {}, SpeedStepping(predictor=False))
+    assert recs[0].converged and recs[0].steps >= math.ceil(4 / 0.3)  # <= 0.3 decades a step
+    assert all(0 < s < 1e-2 for s in recs[0].intermediate)
+
+
+def test_order_and_bad_speed():
+    assert order_speeds([3, 1, 2], "up") == [1, 2, 3]
+    assert order_speeds([3, 1, 2], "up-down") == [1, 2, 3, 2, 1]
+    assert order_speeds([3, 1, 2], "down") == [3, 2, 1]
+    with pytest.raises(ParameterError, match="speed"):
+        speed_sweep(_Problem(1.0, (0, 0)), [-1.0], lambda v, r: None, dict)
+    with pytest.raises(ParameterError, match="max_decades"):
+        SpeedStepping(max_decades=0.0)
