@@ -138,6 +138,32 @@ def speed_sweep(
     return records
 
 
+def reynolds_presolve(prob: Any, where: str = "") -> int:
+    """For a JFO film: solve the problem with the film fraction frozen at 1 and the
+    Reynolds condition ``p >= 0`` (``vinewtonrsls``), a start for the
+    mass-conserving solve (the semismooth JFO Newton fails from a dry state).
+    Returns the Newton steps."""
+    import dataclasses
+
+    from dolfinx_seal.solvers import NonlinearSolver
+
+    film = prob.film
+    theta = film.theta_fn
+    theta.x.array[:] = 1.0
+    blocks = [b for b in prob.blocks if b[1] is not theta]
+    lower = [0.0 if b[1] is film.P else None for b in blocks]
+    bcs = [bc for bc in prob.bcs if bc not in film.bcs[1:]]
+    opts = dataclasses.replace(prob.solver.options, snes_type="vinewtonrsls")
+    pre = NonlinearSolver(
+        [b[0] for b in blocks], [b[1] for b in blocks], bcs, lower=lower, options=opts,
+        name=f"{prob.name} Reynolds-condition start", step_limiter=prob.solver.step_limiter,
+    )  # fmt: skip
+    try:
+        return pre.solve(where=where or f"{prob.name}: Reynolds-condition start").newton_iterations
+    finally:
+        pre.destroy()
+
+
 def order_speeds(values: Sequence[float], order: str) -> list[float]:
     """Speeds for a sweep: ``up`` (ascending), ``down`` (descending), ``up-down``
     (ascending then back down, for hysteresis), or ``given``."""
@@ -151,4 +177,4 @@ def order_speeds(values: Sequence[float], order: str) -> list[float]:
     return [float(x) for x in values]
 
 
-__all__ = ["SpeedStepping", "SweepRecord", "order_speeds", "speed_sweep"]
+__all__ = ["SpeedStepping", "SweepRecord", "order_speeds", "reynolds_presolve", "speed_sweep"]

@@ -32,7 +32,12 @@ from typing import Any
 import numpy as np
 import ufl
 
-from dolfinx_seal.coupled.continuation import SpeedStepping, order_speeds, speed_sweep
+from dolfinx_seal.coupled.continuation import (
+    SpeedStepping,
+    order_speeds,
+    reynolds_presolve,
+    speed_sweep,
+)
 from dolfinx_seal.coupled.results import lubricated_results, write_film_profile
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
@@ -164,7 +169,7 @@ def build_lubricated(
         h_rms=h_rms, rms_slope=rms_slope, e_star=e_star,
     )  # fmt: skip
     snes = SNESOptions(
-        max_it=60, dtol=1e12,
+        max_it=60, dtol=1e12, rtol=1e-11,
         snes_type="vinewtonssls" if params.film.cavitation == "jfo" else "vinewtonrsls",
     )  # fmt: skip
     prob = SolidContactProblem(
@@ -225,6 +230,9 @@ def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> d
     strategy = "direct"
     if v0 < target:
         prob.film.set_speed(v0)
+    if prob.film.has_theta:
+        prob.set_fraction(1.0)
+        its += reynolds_presolve(prob)
     its += prob.solve_at(1.0, where=f"cylinder at speed {v0:.3g} m/s (start)")
     if v0 < target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, params.stepping)
