@@ -148,7 +148,10 @@ def _mesh(params: CylinderParameters, a_h: float, comm: Any = None) -> Any:
 
 
 def build_lubricated(
-    params: CylinderParameters, comm: Any = None, position: float | None = None
+    params: CylinderParameters,
+    comm: Any = None,
+    position: float | None = None,
+    position0: float | None = None,
 ) -> tuple[SolidContactProblem, dict[str, Any]]:
     """The coupled problem (film on) and scalars describing it.
 
@@ -156,7 +159,8 @@ def build_lubricated(
         params: Scene parameters.
         comm: Communicator (default COMM_WORLD).
         position: None: force control (the flat's position is an unknown);
-            otherwise the flat's fixed position [m] (position control).
+            otherwise the flat's final position [m] (position control).
+        position0: Start of the position ramp (position control; default ``position``).
     """
     e_star = params.material.E_star
     a_h, p_h = hertz_line(params.load, params.radius, e_star)
@@ -177,7 +181,7 @@ def build_lubricated(
         Flat(axis=1), law, tm.tag("contact"), [Dirichlet(tm.tag("load"))],
         control="force" if position is None else "position",
         target=params.load if position is None else position,
-        position0=0.0 if position is None else position,
+        position0=0.0 if position is None else (position if position0 is None else position0),
         degree=params.degree, snes=snes, name="cylinder",
         max_step=0.5 * params.h_contact if params.bulk else None, film=film, bulk=params.bulk,
     )  # fmt: skip
