@@ -141,4 +141,40 @@ def write_film_profile(out: Path, prob: Any, title: str) -> None:
     plt.close(fig)
 
 
-__all__ = ["lubricated_results", "write_film_profile"]
+def write_fields(out: Path, prob: Any, name: str = "fields") -> Path:
+    """Write ``NAME.xdmf`` for ParaView: displacement [m], fluid pressure [Pa], film
+    fraction (JFO) and asperity pressure [Pa] as P1 fields (collective)."""
+    import dolfinx
+    import dolfinx.io
+
+    mesh = prob.mesh
+    out = Path(out)
+    if mesh.comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    mesh.comm.barrier()
+    V1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
+    S1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+    from dolfinx_seal.compat import interpolation_points
+
+    fields = []
+    if prob.bulk:
+        u = dolfinx.fem.Function(V1, name="displacement")
+        u.interpolate(dolfinx.fem.Expression(prob.u, interpolation_points(V1.element)))
+        fields.append(u)
+    if prob.film is not None:
+        p = dolfinx.fem.Function(S1, name="fluid_pressure")
+        p.x.array[:] = prob.film.scales.pressure * prob.film.P.x.array
+        fields.append(p)
+        if prob.film.has_theta:
+            t = dolfinx.fem.Function(S1, name="film_fraction")
+            t.x.array[:] = prob.film.theta_fn.x.array
+            fields.append(t)
+    path = out / f"{name}.xdmf"
+    with dolfinx.io.XDMFFile(mesh.comm, str(path), "w") as xdmf:
+        xdmf.write_mesh(mesh)
+        for f in fields:
+            xdmf.write_function(f)
+    return path
+
+
+__all__ = ["lubricated_results", "write_fields", "write_film_profile"]

@@ -38,7 +38,7 @@ from dolfinx_seal.coupled.continuation import (
     reynolds_presolve,
     speed_sweep,
 )
-from dolfinx_seal.coupled.results import lubricated_results, write_film_profile
+from dolfinx_seal.coupled.results import lubricated_results, write_fields, write_film_profile
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
@@ -272,6 +272,7 @@ def run_lubricated(params: CylinderParameters, out: Path) -> dict[str, Any]:
     res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=COMM_WORLD.size,
                wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
     write_film_profile(out, prob, _title(params))
+    write_fields(out, prob)
     return res
 
 

@@ -68,6 +68,8 @@ def test_lubricated_point_balances_and_splits_the_load(mpi_tmp_path):
     if COMM_WORLD.rank == 0:
         table = np.loadtxt(mpi_tmp_path / "film.csv", delimiter=",", skiprows=1)
         assert table.shape[1] == 6 and np.all(table[:, 2] >= 0)  # p >= 0 (Reynolds)
+        xdmf = (mpi_tmp_path / "fields.xdmf").read_text()
+        assert "displacement" in xdmf and "fluid_pressure" in xdmf
 
 
 def test_parallel_equals_serial_copy(mpi_tmp_path):
