@@ -194,6 +194,9 @@ def build_lubricated(
     return prob, info
 
 
+START_MAX_IT = 300  # Newton steps allowed for the start from the dry shape
+
+
 def start_speed(params: CylinderParameters) -> float:
     """A speed of boundary lubrication [m/s], where the coupled Newton starts from the
     dry (Hertz) shape: the film estimate of S1 (after fig 15) ``u = (0.2 eta v a / p_mean)^(1/2)``
@@ -237,7 +240,15 @@ def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> d
     if prob.film.has_theta:
         prob.set_fraction(1.0)
         its += reynolds_presolve(prob)
-    its += prob.solve_at(1.0, where=f"cylinder at speed {v0:.3g} m/s (start)")
+    # from the dry shape the contact/cavitation active sets may move one node per step
+    # (DESIGN.md 5): allow START_MAX_IT steps for this first solve only
+    snes = prob.solver.snes
+    max_it = snes.getTolerances()[3]
+    snes.setTolerances(max_it=START_MAX_IT)
+    try:
+        its += prob.solve_at(1.0, where=f"cylinder at speed {v0:.3g} m/s (start)")
+    finally:
+        prob.solver.snes.setTolerances(max_it=max_it)
     if v0 < target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, params.stepping)
         if not recs[-1].converged:
