@@ -50,7 +50,7 @@ CURVES = {
 
 def curve_parameters(values: dict[str, Any], elements_per_half_width: float) -> Any:
     """Scene parameters of one curve, with the contact element size set from a_Hertz."""
-    p = make_parameters("cylinder", values=values)
+    p = make_parameters("cylinder", values={**values, "h_contact": 1e-9})  # for a_Hertz only
     a_h, _ = hertz_line(p.load, p.radius, p.material.E_star)
     return make_parameters(
         "cylinder", values={**values, "h_contact": a_h / elements_per_half_width}
@@ -126,8 +126,23 @@ def main(argv: list[str] | None = None) -> None:
         "--elements", type=float, default=30.0, help="elements per Hertz half-width"
     )
     parser.add_argument("--quick", action="store_true", help="3 speeds, 2 curves, coarse")
+    parser.add_argument("--plot-only", action="store_true",
+                        help="redraw stribeck.png from the sweep.csv files in --out")  # fmt: skip
     args = parser.parse_args(argv)
     from dolfinx_seal.scenes import parse_values
+
+    if args.plot_only:
+        from dolfinx_seal.output import read_csv
+
+        out = Path(args.out)
+        rows = {
+            c: read_csv(out / c / "sweep.csv")
+            for c in args.curves
+            if (out / c / "sweep.csv").exists()
+        }
+        if COMM_WORLD.rank == 0:
+            _plot(out, rows)
+        return
 
     speeds = parse_values(args.speeds)
     curves = args.curves
