@@ -4,14 +4,28 @@ Axisymmetric (r, z) lip of :mod:`geometry.lip` (an 80 mm shaft seal by
 default), bonded to its metal case along ``clamped``.  The undeformed tip lies
 ``interference`` inside the shaft; installation is modelled by growing the
 rigid shaft radius from the tip radius to its nominal value (position control
-with adaptive stepping: strains well above 30 % at the tip), optionally with
-the garter spring load on the spring groove.  No film: the static contact.
+with adaptive stepping), optionally with the garter spring load on the spring
+groove.  No film: the static contact.  The default lip mostly bends (largest
+principal strain about 5 %, under the tip); a sharp edge (``tip_radius`` 20 um)
+under a strong spring (450 N/m) is strained by 33 % inside the tip arc.
 
 Reports the radial load per unit circumference ``radial_load`` (the total
 radial contact force divided by ``2 pi R_shaft``) [N/m], the contact width
 (the width of the uniform band with the same force and second moment),
-the peak and mean contact pressure, and the contact pressure profile along z
-(``pressure.csv``, ``pressure.png``).
+the peak and mean contact pressure, the largest principal (Hencky) strain and
+where it is (reference position: ``max_strain_r_above_tip``, ``max_strain_z``),
+and the contact pressure profile along z (``pressure.csv``, ``pressure.png``).
+
+The radial balance of the section is reported too (totals over the
+revolution, N, positive outwards on the lip): contact force ``normal_load``,
+spring force ``spring_force`` (inwards), case reaction ``case_radial_reaction``
+and the hoop force ``hoop_force`` (``2 pi int P_tt dA``: in axisymmetry a
+uniform radial displacement stretches the hoop fibres, so the contact force is
+not the case reaction); ``radial_balance_error`` is
+``(contact - spring + reaction - hoop) / contact``, zero at convergence up to
+quadrature.  ``min_gap_outside_band`` is the smallest gap between the shaft and
+the lip surface outside the contact band (negative: the band is too narrow for
+this interference).
 """
 
 from __future__ import annotations
@@ -37,6 +51,7 @@ from dolfinx_seal.scenes.common import ContactLawParams, MaterialParams, write_p
 from dolfinx_seal.solid import tractions
 from dolfinx_seal.solid.counter_surface import Shaft
 from dolfinx_seal.solid.kinematics import Axisymmetric
+from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem, SteppingOptions
 from dolfinx_seal.solvers import SNESOptions
 from geometry.lip import LipSealParams
@@ -54,7 +69,10 @@ class LipInstallParameters:
             lip; a ground shaft is much smoother; default 1 um combined).
         contact: Asperity contact law (``persson`` or ``stiff`` for a smooth contact).
         spring_load: Garter spring radial force per unit circumference of the groove
-            [N/m] (0: no spring).
+            [N/m] (0: no spring): a ring of hoop tension ``T = spring_load * r_g``
+            (``r_g`` the mean radius of the undeformed groove surface) pulling the
+            groove bottom radially inwards with ``2 pi T`` in all, a dead load
+            ramped with the shaft radius (the spring's own stiffness is neglected).
         degree: Displacement degree.
     """
 
@@ -72,9 +90,42 @@ class LipInstallParameters:
         check_int_range("degree", self.degree, 1, 3)
 
 
-def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
-    """Install the lip; write the pressure profile; return the results."""
-    t0 = time.perf_counter()
+class _LipProblem(SolidContactProblem):
+    """The lip problem whose load fraction also ramps the garter spring."""
+
+    spring_scale: dolfinx.fem.Constant | None = None
+    spring_fraction: float | None = None  # None: the spring follows the load fraction
+
+    def set_fraction(self, t: float) -> None:
+        super().set_fraction(t)
+        if self.spring_scale is not None:
+            self.spring_scale.value = t if self.spring_fraction is None else self.spring_fraction
+
+
+@dataclass
+class Installation:
+    """The lip installed on its shaft (what :func:`install` returns).
+
+    Attributes:
+        problem: The solved problem at load fraction 1 (shaft at its nominal radius,
+            spring at its full load).  Its ``spring_fraction`` (``None``: the spring
+            follows the load fraction) scales the spring load in later solves.
+        mesh: The tagged lip mesh.
+        law_info: What the contact law reports about itself.
+        spring: ``spring_hoop_tension`` T [N], ``spring_force`` 2 pi T [N] and
+            ``spring_radius`` r_g [m] (empty without a spring).
+        solve_time_s: Wall time of the load stepping.
+    """
+
+    problem: _LipProblem
+    mesh: Any
+    law_info: dict[str, Any]
+    spring: dict[str, float]
+    solve_time_s: float
+
+
+def install(params: LipInstallParameters) -> Installation:
+    """Build the lip problem and grow the shaft radius to its nominal value."""
     lp = params.lip
     mat = params.material.build()
     e_star = params.material.E_star
@@ -83,31 +134,51 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
     tm = create_mesh("lip", lp, comm=COMM_WORLD)
     r_tip = lp.shaft_radius - lp.interference
 
+    # the garter spring: a dead radial load on the groove, ramped with the shaft radius
+    spring_scale = dolfinx.fem.Constant(tm.mesh, 0.0)
+    spring_info: dict[str, float] = {}
+
     def spring(prob: SolidContactProblem) -> Any:
-        if params.spring_load == 0.0:
-            return None
         ds_g = prob.ds(tm.tag("spring_groove"))
-        # uniform pressure on the groove with a net radial force spring_load * 2 pi r_groove
-        nr = -prob.N3[0]  # inward radial component of the outward normal
+        # a ring of hoop tension T pulls inwards with T / r per unit of its circumference:
+        # 2 pi T in all, whatever its radius.  T = spring_load * r_g, r_g the mean radius
+        # of the undeformed groove; the load is spread over the groove as the radial part
+        # of a uniform pressure on its undeformed surface (N_r > 0: the groove bottom).
+        nr = ufl.max_value(prob.N3[0], 0.0)
         area_r = prob.integrate(nr * prob.weight, ds_g)
         r_g = prob.integrate(prob.X[0] * prob.weight, ds_g) / prob.integrate(prob.weight, ds_g)
-        p_s = params.spring_load * 2.0 * math.pi * r_g / area_r
-        return -tractions.pressure_work(p_s, prob.F, prob.N3, prob.v3, prob.weight, ds_g)
+        tension = params.spring_load * r_g
+        spring_info.update(
+            spring_hoop_tension=tension, spring_force=2.0 * math.pi * tension, spring_radius=r_g
+        )
+        q = spring_scale * (2.0 * math.pi * tension / area_r) * nr  # inward, per reference area
+        return q * prob.v3[0] * prob.weight * ds_g
 
     # shaft radius grows from just inside the tip to its nominal value
     start = r_tip - 0.02 * lp.interference
-    prob = SolidContactProblem(
+    prob = _LipProblem(
         tm.mesh, tm.facet_tags, Axisymmetric(), mat, Shaft(), law, tm.tag("contact"),
         [Dirichlet(tm.tag("clamped"))], control="position", target=lp.shaft_radius,
         position0=start, degree=params.degree, snes=SNESOptions(max_it=25), name="lip-install",
         extra_residual=spring if params.spring_load > 0.0 else None,
         max_step=0.5 * lp.h_contact,  # a Newton step moves no node more than half a contact element
     )  # fmt: skip
+    prob.spring_scale = spring_scale
     t1 = time.perf_counter()
     prob.ramp(SteppingOptions(first=0.02, grow=1.5, easy=8, max_steps=400, predictor=True))
-    solve_time = time.perf_counter() - t1
-    strain_body, strain_surface = _max_strain(prob)
+    return Installation(prob, tm, law_info, spring_info, time.perf_counter() - t1)
+
+
+def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
+    """Install the lip; write the pressure profile; return the results."""
+    t0 = time.perf_counter()
+    lp = params.lip
+    inst = install(params)
+    prob, tm, spring_info = inst.problem, inst.mesh, inst.spring
+    strain_body, strain_surface, (r_strain, z_strain) = _max_strain(prob)
     fr = prob.contact_force()  # total radial force [N] (2 pi r weighted)
+    reaction, hoop = radial_balance(prob, tm.tag("clamped"))
+    f_spring = spring_info.get("spring_force", 0.0)
     radial_load = fr / (2.0 * math.pi * lp.shaft_radius)
     _, p = prob.surface_values(prob.p_cont, average=True)
     _, xr = prob.surface_values(prob.x[0], average=True)
@@ -117,6 +188,11 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
     z, p, xr = z[order], p[order], xr[order]
     pmax = float(p.max())
     width, z_mean = _moment_width(prob)
+    # the lip outside the contact band must stay off the shaft (no contact law there)
+    min_gap = min(
+        float(prob.surface_values(prob.gap, tag=tm.tag(side))[1].min())
+        for side in ("oil_side", "air_side")
+    )
     res = {
         "radial_load": radial_load,
         "normal_load": fr,
@@ -126,17 +202,26 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
         "mean_contact_pressure": radial_load / width if width > 0 else 0.0,
         "z_peak_pressure": float(z[np.argmax(p)]),
         "z_contact_centre": z_mean,
+        "min_gap_outside_band": min_gap,
         "load_steps": len(prob.steps),
         "newton_iterations": int(sum(s.newton_iterations for s in prob.steps)),
-        "solve_time_s": solve_time,
+        "solve_time_s": inst.solve_time_s,
         "max_principal_strain": strain_body,
         "max_principal_strain_contact": strain_surface,
+        "max_strain_r_above_tip": r_strain - lp.tip_r,
+        "max_strain_z": z_strain,
         "dofs": prob.dofs,
         "ranks": COMM_WORLD.size,
         "wall_time_s": time.perf_counter() - t0,
         "converged": True,
-        "contact_law": law.name,
-        **law_info,
+        "spring_hoop_tension": spring_info.get("spring_hoop_tension", 0.0),
+        "spring_force": f_spring,
+        "spring_radial_load": f_spring / (2.0 * math.pi * lp.shaft_radius),
+        "case_radial_reaction": reaction,
+        "hoop_force": hoop,
+        "radial_balance_error": (fr - f_spring + reaction - hoop) / fr,
+        "contact_law": prob.law.name,
+        **inst.law_info,
     }
     write_profile(
         out, "pressure", {"z_m": z, "r_m": xr, "p_contact_Pa": p},
@@ -145,6 +230,38 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
         curves={"contact pressure": (z * 1e3, p / 1e6)},
     )  # fmt: skip
     return res
+
+
+def radial_balance(prob: SolidContactProblem, clamped: int) -> tuple[float, float]:
+    """Radial reaction of the case on the lip and the hoop force, both totals [N].
+
+    The reaction is the residual of the body at the radial dofs of the clamped
+    face (the virtual work of the stresses for a unit radial displacement of that
+    face alone); the hoop force ``2 pi int P_tt dA`` is the work of the stresses
+    for a uniform radial displacement of the whole section, which in axisymmetry
+    is no rigid motion (it stretches every hoop fibre by ``1 / r``).  Equilibrium
+    for that displacement: contact force - spring force + reaction = hoop force.
+    """
+    Vu = prob.W.sub(0) if prob.material.mixed else prob.W
+    sub = Vu.sub(0)
+    collapsed, dofs_r = sub.collapse()
+    fdim = prob.mesh.topology.dim - 1
+    on_case = dolfinx.fem.locate_dofs_topological(
+        (sub, collapsed), fdim, prob.facet_tags.find(clamped)
+    )[0]
+    if isinstance(prob.material, LinearElastic):
+        energy = prob.material.small_strain_energy(prob.kin.eps(prob.u), prob.p_mix)
+    else:
+        energy = prob.material.strain_energy(prob.F, prob.p_mix)
+    v = dolfinx.fem.Function(prob.W)
+    out = []
+    for dofs in (on_case, dofs_r):
+        v.x.array[:] = 0.0
+        v.x.array[np.asarray(dofs)] = 1.0
+        v.x.scatter_forward()
+        work = dolfinx.fem.form(ufl.derivative(energy * prob.weight * prob.dx, prob.w, v))
+        out.append(prob.mesh.comm.allreduce(dolfinx.fem.assemble_scalar(work), op=MPI.SUM))
+    return out[0], out[1]
 
 
 def _moment_width(prob: SolidContactProblem) -> tuple[float, float]:
@@ -163,9 +280,9 @@ def _moment_width(prob: SolidContactProblem) -> tuple[float, float]:
     return math.sqrt(12.0 * var), m1
 
 
-def _max_strain(prob: SolidContactProblem) -> tuple[float, float]:
+def _max_strain(prob: SolidContactProblem) -> tuple[float, float, tuple[float, float]]:
     """Largest principal logarithmic (Hencky) strain magnitude, in the body and on the
-    contact surface.
+    contact surface, and the reference (r, z) position of the body value.
 
     In axisymmetry ``C = F^T F`` is block diagonal: the (r, z) block has the
     eigenvalues ``(tr +- sqrt(tr^2 - 4 det)) / 2`` and the hoop one is ``C_tt``.
@@ -178,14 +295,18 @@ def _max_strain(prob: SolidContactProblem) -> tuple[float, float]:
     S = dolfinx.fem.functionspace(prob.mesh, ("Lagrange", 1))
     f = dolfinx.fem.Function(S)
     n = S.dofmap.index_map.size_local
-    body = surface = 0.0
+    X = S.tabulate_dof_coordinates()[:n]
+    body, where, surface = 0.0, (math.nan, math.nan), 0.0
     for lam2 in ((tr + disc) / 2.0, (tr - disc) / 2.0, C[2, 2]):
         f.interpolate(dolfinx.fem.Expression(lam2, interpolation_points(S.element)))
-        body = max(body, float(np.abs(0.5 * np.log(f.x.array[:n])).max(initial=0.0)))
+        e = np.abs(0.5 * np.log(f.x.array[:n]))
+        if n and e.max() > body:
+            i = int(np.argmax(e))
+            body, where = float(e[i]), (float(X[i, 0]), float(X[i, 1]))
         _, v = prob.surface_values(lam2)
         surface = max(surface, float(np.abs(0.5 * np.log(v)).max()))
-    body = prob.mesh.comm.allreduce(body, op=MPI.MAX)
-    return body, surface
+    body, where = max(prob.mesh.comm.allgather((body, where)))
+    return body, surface, where
 
 
 SCENE = Scene(
@@ -195,4 +316,4 @@ SCENE = Scene(
     run=run,
 )
 
-__all__ = ["SCENE", "LipInstallParameters"]
+__all__ = ["SCENE", "Installation", "LipInstallParameters", "install", "radial_balance"]

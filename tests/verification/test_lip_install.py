@@ -75,6 +75,21 @@ def test_radial_load_from_profile_matches_force_integral(installed):
     assert math.isfinite(res["max_principal_strain"])
 
 
+def test_radial_balance_and_band(installed):
+    """Statics of the section for a uniform radial virtual displacement: contact
+    force + case reaction = hoop force (no spring).  What is left is the
+    quadrature of the contact force (its own form against the residual's):
+    7.4e-4 / 1.0e-5 / 1.4e-5 of the contact force on the 20 / 10 / 5 um meshes."""
+    res, _, _ = installed
+    assert abs(res["radial_balance_error"]) < 1e-3
+    # axisymmetry: the hoop tension of the expanded lip carries about half of the
+    # contact force, the case the rest (hoop 2.008 N, case -1.934 N, contact 3.94 N)
+    assert 0.3 < res["hoop_force"] / res["normal_load"] < 0.7
+    assert res["spring_force"] == 0.0
+    # the lip outside the contact band stays off the shaft
+    assert res["min_gap_outside_band"] > 0.0
+
+
 def test_interference_larger_than_the_lip_is_rejected():
     with pytest.raises(ParameterError, match="interference"):
         make_parameters("lip-install", values={"lip": {"interference": 5e-3}})
