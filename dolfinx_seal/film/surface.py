@@ -169,6 +169,7 @@ class FilmContext:
         vector3: Map of a gdim vector to a 3-vector.
         e_n: Unit normal of the counter-surface pointing into the body (3-vector).
         sliding: Unit sliding direction of the counter-surface (3-vector).
+        quadrature_degree: Quadrature degree of the film integrals (None: UFL's estimate).
     """
 
     mesh: dolfinx.mesh.Mesh
@@ -182,6 +183,7 @@ class FilmContext:
     vector3: Any
     e_n: Any
     sliding: Any
+    quadrature_degree: int | None = None
 
 
 class SurfaceFilm:
@@ -230,7 +232,8 @@ class SurfaceFilm:
         q = ufl.TestFunction(S)
         self.p = sc.pressure * self.P  # [Pa]
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=ctx.facet_tags)
-        self.ds = ds(ctx.contact_tag)
+        meta = {} if ctx.quadrature_degree is None else {"quadrature_degree": ctx.quadrature_degree}
+        self.ds = ds(ctx.contact_tag, metadata=meta)
         self.ds1 = ds(ctx.contact_tag, metadata={"quadrature_degree": 1})
         self.ds_vertex = ds(
             ctx.contact_tag, metadata={"quadrature_rule": "vertex", "quadrature_degree": 1}
@@ -402,6 +405,15 @@ class SurfaceFilm:
         self.row_weight.value = (
             self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
         )
+
+    def set_pressure(self, pressure: Any) -> None:
+        """Set the fluid pressure to a UFL expression [Pa] on the free film dofs
+        (a Newton start; the boundary values stay)."""
+        f = dolfinx.fem.Function(self.S)
+        f.interpolate(dolfinx.fem.Expression(pressure, interpolation_points(self.S.element)))
+        free = self.film_dofs_local
+        self.P.x.array[free] = f.x.array[free] / self.scales.pressure
+        self.P.x.scatter_forward()
 
     # ---------------------------------------------------------------- physics
     def shear_on_rubber(self) -> Any:
