@@ -164,6 +164,84 @@ def reynolds_presolve(prob: Any, where: str = "") -> int:
         pre.destroy()
 
 
+START_MAX_IT = 300  # Newton steps allowed for the first coupled solve from the dry shape
+
+
+def boundary_start_speed(h_rms: float, viscosity: float, half_width: float, p_mean: float) -> float:
+    """A speed of boundary lubrication [m/s], where a coupled Newton can start from the
+    dry (Hertz) shape: S1's film estimate (after fig 15) ``u = (0.2 eta v a / p_mean)^(1/2)``
+    set equal to ``h_rms / 30``, i.e. ``v = (h_rms / 30)^2 p_mean / (0.2 eta a)``.
+
+    Args:
+        h_rms: Rms roughness [m].
+        viscosity: eta [Pa s].
+        half_width: Contact half-width (radius) a [m].
+        p_mean: Mean contact pressure [Pa].
+    """
+    return (h_rms / 30.0) ** 2 * p_mean / (0.2 * viscosity * half_width)
+
+
+def start_coupled(
+    prob: Any,
+    target: float,
+    v_start: float,
+    stepping: SpeedStepping,
+    where: str,
+    *,
+    pressure_guess: Any = None,
+    peak_gap: float = 0.0,
+    film_guess: bool = False,
+) -> dict[str, Any]:
+    """Bring a coupled (film + body) problem to its first converged state at ``target``.
+
+    With ``pressure_guess`` (UFL, [Pa]) the body is first deformed under it
+    (:meth:`~dolfinx_seal.solid.problem.SolidContactProblem.warm_start`, lowest
+    point at the gap ``peak_gap``); with ``film_guess`` the fluid pressure
+    starts from it too (a hydrodynamic start).  Then one coupled Newton solve at
+    ``min(target, v_start)`` (boundary lubrication: the film carries little and
+    the dry shape is a good start; up to :data:`START_MAX_IT` steps, since the
+    contact and cavitation active sets may move one node per step from there,
+    DESIGN.md 5), a Reynolds-condition presolve first for JFO, and speed
+    continuation up to ``target``.  Returns solver figures; raises
+    :class:`~dolfinx_seal.errors.SolverError` (with the speed reached) on failure.
+    """
+    t0 = time.perf_counter()
+    its = 0
+    if pressure_guess is not None:
+        its += prob.warm_start(pressure_guess, peak_gap)
+        if film_guess:
+            prob.film.set_pressure(pressure_guess)
+    v0 = min(target, v_start) if target > 0 else target
+    if v0 < target:
+        prob.film.set_speed(v0)
+    if prob.film.has_theta:
+        prob.set_fraction(1.0)
+        its += reynolds_presolve(prob)
+    snes = prob.solver.snes
+    max_it = snes.getTolerances()[3]
+    snes.setTolerances(max_it=START_MAX_IT)
+    try:
+        its += prob.solve_at(1.0, where=f"{where} at speed {v0:.3g} m/s (start)")
+    finally:
+        prob.solver.snes.setTolerances(max_it=max_it)
+    strategy = "direct"
+    if v0 < target:
+        recs = speed_sweep(prob, [target], lambda *_: None, dict, stepping)
+        if not recs[-1].converged:
+            raise SolverError(
+                f"coupled solve did not reach film.speed = {target:g} m/s: {recs[-1].error}",
+                where=f"{where} start",
+                partial={"speed": float(prob.film.speed.value)},
+            )
+        its += recs[-1].newton_iterations
+        strategy = f"start at {v0:.3g} m/s, speed continuation ({recs[-1].steps} steps)"
+    return {
+        "newton_iterations": its,
+        "solve_time_s": time.perf_counter() - t0,
+        "strategy": strategy,
+    }
+
+
 def order_speeds(values: Sequence[float], order: str) -> list[float]:
     """Speeds for a sweep: ``up`` (ascending), ``down`` (descending), ``up-down``
     (ascending then back down, for hysteresis), or ``given``."""
@@ -177,4 +255,13 @@ def order_speeds(values: Sequence[float], order: str) -> list[float]:
     return [float(x) for x in values]
 
 
-__all__ = ["SpeedStepping", "SweepRecord", "order_speeds", "reynolds_presolve", "speed_sweep"]
+__all__ = [
+    "START_MAX_IT",
+    "SpeedStepping",
+    "SweepRecord",
+    "boundary_start_speed",
+    "order_speeds",
+    "reynolds_presolve",
+    "speed_sweep",
+    "start_coupled",
+]

@@ -29,17 +29,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import ufl
 
-from dolfinx_seal.coupled.continuation import (
-    SpeedStepping,
-    order_speeds,
-    reynolds_presolve,
-    speed_sweep,
-)
+from dolfinx_seal.coupled.continuation import SpeedStepping, boundary_start_speed, start_coupled
 from dolfinx_seal.coupled.results import lubricated_results, write_fields, write_film_profile
-from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.coupled.sweep import SweepHooks, lubricated_sweep, plot_sweep
+from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
 from dolfinx_seal.mpi import COMM_WORLD
@@ -194,36 +189,31 @@ def build_lubricated(
     return prob, info
 
 
-START_MAX_IT = 300  # Newton steps allowed for the start from the dry shape
-
-
 def start_speed(params: CylinderParameters) -> float:
-    """A speed of boundary lubrication [m/s], where the coupled Newton starts from the
-    dry (Hertz) shape: the film estimate of S1 (after fig 15) ``u = (0.2 eta v a / p_mean)^(1/2)``
-    equal to ``h_rms / 30``, i.e. ``v = (h_rms / 30)^2 p_mean / (0.2 eta a)``."""
+    """A speed of boundary lubrication [m/s] where the coupled Newton starts
+    (:func:`~dolfinx_seal.coupled.continuation.boundary_start_speed`, p_mean = pi/4 p_H)."""
     a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
-    p_mean = math.pi / 4.0 * p_h
-    return (params.roughness.h_rms / 30.0) ** 2 * p_mean / (0.2 * params.film.viscosity * a_h)
+    return boundary_start_speed(
+        params.roughness.h_rms, params.film.viscosity, a_h, math.pi / 4.0 * p_h
+    )
 
 
 def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> dict[str, Any]:
     """Bring the coupled problem to its first converged state at ``film.speed``.
 
-    Deformable: deformation under the Hertz pressure (warm start), one coupled
-    Newton solve at ``min(film.speed, start_speed)`` (boundary lubrication:
-    the film carries little and the dry shape is a good start), then speed
-    continuation up to ``film.speed``.  Rigid: the film at the Martin film
-    thickness of the load, then the coupled solve.
+    Deformable: :func:`~dolfinx_seal.coupled.continuation.start_coupled` from
+    the Hertz-deformed shape at :func:`start_speed`.  Rigid: the film at the
+    Martin film thickness of the load first, then the coupled solve.
     """
-    t0 = time.perf_counter()
     a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
-    its = 0
     target = params.film.speed
+    pre_its = 0
     if prob.bulk:
         X = prob.X
         guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))
         peak_gap = separation_of(prob.law, p_h) if prob.law is not None else params.roughness.h_rms
-        its += prob.warm_start(guess, peak_gap)
+        kw: dict[str, Any] = dict(pressure_guess=guess, peak_gap=peak_gap)
+        v_start = start_speed(params)
     else:  # rigid: the film at the Martin film thickness first, then the coupled solve
         if prob.control == "force":
             h0 = 4.9 * params.film.viscosity * 0.5 * max(target, 1e-12) * params.radius
@@ -231,39 +221,12 @@ def start_lubricated(prob: SolidContactProblem, params: CylinderParameters) -> d
         else:
             prob.set_fraction(1.0)
         pre = prob.film.make_solver(prob.solver.options, name="cylinder film start")
-        its += pre.solve(where="cylinder: film at the guessed film thickness").newton_iterations
+        pre_its = pre.solve(where="cylinder: film at the guessed film thickness").newton_iterations
         pre.destroy()
-    v0 = min(target, start_speed(params)) if (prob.bulk and target > 0) else target
-    strategy = "direct"
-    if v0 < target:
-        prob.film.set_speed(v0)
-    if prob.film.has_theta:
-        prob.set_fraction(1.0)
-        its += reynolds_presolve(prob)
-    # from the dry shape the contact/cavitation active sets may move one node per step
-    # (DESIGN.md 5): allow START_MAX_IT steps for this first solve only
-    snes = prob.solver.snes
-    max_it = snes.getTolerances()[3]
-    snes.setTolerances(max_it=START_MAX_IT)
-    try:
-        its += prob.solve_at(1.0, where=f"cylinder at speed {v0:.3g} m/s (start)")
-    finally:
-        prob.solver.snes.setTolerances(max_it=max_it)
-    if v0 < target:
-        recs = speed_sweep(prob, [target], lambda *_: None, dict, params.stepping)
-        if not recs[-1].converged:
-            raise SolverError(
-                f"coupled solve did not reach film.speed = {target:g} m/s: {recs[-1].error}",
-                where="cylinder start",
-                partial={"speed": float(prob.film.speed.value)},
-            )
-        its += recs[-1].newton_iterations
-        strategy = f"start at {v0:.3g} m/s, speed continuation ({recs[-1].steps} steps)"
-    return {
-        "newton_iterations": its,
-        "solve_time_s": time.perf_counter() - t0,
-        "strategy": strategy,
-    }
+        kw, v_start = {}, target
+    info = start_coupled(prob, target, v_start, params.stepping, "cylinder", **kw)
+    info["newton_iterations"] += pre_its
+    return info
 
 
 def run_lubricated(params: CylinderParameters, out: Path) -> dict[str, Any]:
@@ -293,87 +256,23 @@ def _title(params: CylinderParameters) -> str:
             f"h_rms = {params.roughness.h_rms * 1e6:g} um, {f.cavitation}")  # fmt: skip
 
 
+def _write_point(out: Path, prob: SolidContactProblem, params: CylinderParameters) -> None:
+    write_film_profile(out, prob, _title(params))
+
+
 def sweep(
     params: CylinderParameters, out: Path, name: str, values: list[float], on_point: Any
 ) -> list[dict[str, Any]]:
-    """Stribeck sweep over ``film.speed`` (or ``speed``) with continuation.
+    """Stribeck sweep over ``film.speed`` with continuation
+    (:func:`~dolfinx_seal.coupled.sweep.lubricated_sweep`)."""
 
-    Starts at the first speed of the ordered list, then walks the others with
-    :func:`~dolfinx_seal.coupled.continuation.speed_sweep`; each converged point
-    goes to ``on_point`` at once (``sweep.csv``).  Failed points are recorded
-    in ``sweep_failures.csv`` and the sweep goes on from the last good point.
-    """
-    if name not in ("speed", "film.speed"):
-        raise ParameterError(f"cylinder sweeps run over film.speed (got --over {name!r})")
-    if not params.lubricated:
-        raise ParameterError("lubricated = false: a speed sweep needs the film")
-    speeds = order_speeds(values, params.sweep_order)
-    from dolfinx_seal.scenes import set_parameter
+    def build(p: CylinderParameters) -> tuple[SolidContactProblem, dict[str, Any]]:
+        prob, info = build_lubricated(p)
+        info["nominal_area"] = 2.0 * info["hertz_half_width"]
+        return prob, info
 
-    p0 = set_parameter(params, "film.speed", speeds[0])
-    prob, info = build_lubricated(p0)
-    a_h = info["hertz_half_width"]
-    rows: list[dict[str, Any]] = []
-
-    def results() -> dict[str, Any]:
-        r = lubricated_results(prob, nominal_area=2.0 * a_h)
-        r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
-        return r
-
-    def point(v: float, r: dict[str, Any]) -> None:
-        rows.append(r)
-        on_point(v, r)
-        write_film_profile(
-            out / f"speed_{v:.3e}", prob, _title(set_parameter(params, "film.speed", v))
-        )
-
-    t0 = time.perf_counter()
-    start = start_lubricated(prob, p0)
-    r0 = results()
-    r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
-              wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-    point(speeds[0], r0)
-    recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)
-    failed = [r for r in recs if not r.converged]
-    if failed and COMM_WORLD.rank == 0:
-        with (out / "sweep_failures.csv").open("w") as fh:
-            fh.write("speed,error\n")
-            for r in failed:
-                fh.write(f'{r.speed!r},"{r.error}"\n')
-    return rows
-
-
-def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
-    """Stribeck curve mu(eta v) with its parts, and the fluid load fraction (``sweep.png``)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    rows = sorted(rows, key=lambda r: float(r["eta_v"]))
-    ev = np.array([float(r["eta_v"]) for r in rows])
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
-    ax1.loglog(ev, [float(r["mu"]) for r in rows], "ko-", ms=3, label="mu")
-    for k, st in (("mu_asperity", "s--"), ("mu_couette", "^--"), ("mu_poiseuille", "v--")):
-        if k in rows[0]:
-            y = np.array([float(r[k]) for r in rows])
-            ax1.loglog(ev[y > 0], y[y > 0], st, ms=3, label=k)
-    ax1.set_xlabel("eta v [Pa m]")
-    ax1.set_ylabel("friction coefficient")
-    ax1.legend(frameon=False, fontsize=8)
-    ax2.semilogx(ev, [float(r["fluid_load_fraction"]) for r in rows], "bo-", ms=3, label="fluid")
-    ax2.semilogx(
-        ev, [1 - float(r["fluid_load_fraction"]) for r in rows], "rs-", ms=3, label="asperities"
-    )
-    ax2.set_xlabel("eta v [Pa m]")
-    ax2.set_ylabel("load fraction")
-    ax2.legend(frameon=False)
-    ax3 = ax2.twinx()
-    ax3.loglog(ev, [float(r["h_min"]) * 1e6 for r in rows], "g^:", ms=3)
-    ax3.set_ylabel("h_min [um] (green)")
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "sweep.png", dpi=120)
-    plt.close(fig)
+    hooks = SweepHooks(build=build, start=start_lubricated, write_point=_write_point)
+    return lubricated_sweep(params, out, name, values, on_point, hooks)
 
 
 def run_dry(params: CylinderParameters, out: Path) -> dict[str, Any]:
