@@ -39,6 +39,7 @@ smooth one).  Two models:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -48,6 +49,7 @@ from scipy.special import erfinv
 
 from dolfinx_seal.contact.base import FloatArray, as_array
 from dolfinx_seal.contact.persson_theory import PerssonTheory
+from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_int_range, check_positive
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
@@ -90,6 +92,62 @@ class PatirCheng:
         low = self.shear_factor(u) * (_PC_A1E / h - _PC_A2E + 2.0 * _PC_A3E * h)
         high = -0.25 * _PC_A2 * np.exp(-0.25 * h)
         return np.where(h <= 5.0, low, high) / self.sigma
+
+
+class LogHermiteTable:
+    """A flow factor as a piecewise cubic Hermite interpolant in ``s = ln(u / h_rms)``.
+
+    The form the FEM film evaluates in UFL
+    (:func:`dolfinx_seal.film.surface.pressure_flow_factor`): node values and
+    slopes of a tabulated factor (C1, exact derivative for Newton).  Below the
+    first node ``phi = phi_0 (H/H_0)^k`` with ``k`` matching the slope (-> 0 at
+    contact); above the last ``phi = 1 - c/H^2`` with ``c = (1 - phi_N) H_N^2``
+    (Tripp's tail).  :meth:`__call__` is the same function in numpy.
+
+    Args:
+        s: Nodes ``ln(u/h_rms)`` (increasing).
+        phi: Values at the nodes.
+        dphi_ds: Slopes ``d phi / d s`` at the nodes.
+        h_rms: Rms roughness [m].
+    """
+
+    def __init__(self, s: ArrayLike, phi: ArrayLike, dphi_ds: ArrayLike, h_rms: float) -> None:
+        self.s = np.asarray(s, dtype=float)
+        self.phi = np.asarray(phi, dtype=float)
+        self.dphi = np.asarray(dphi_ds, dtype=float)
+        self.h_rms = check_positive("h_rms", h_rms, "m")
+        if not (np.all(np.diff(self.s) > 0) and self.phi[0] > 0 and self.phi[-1] < 1):
+            raise ParameterError("LogHermiteTable: nodes must increase and 0 < phi < 1 at the ends")
+        self.k_low = self.dphi[0] / self.phi[0]
+        self.c_tail = (1.0 - self.phi[-1]) * math.exp(2.0 * self.s[-1])
+
+    def segment(self, j: int, s: Any) -> Any:
+        """Cubic Hermite polynomial of interval ``j`` at ``s`` (numpy or UFL)."""
+        s0, h = float(self.s[j]), float(self.s[j + 1] - self.s[j])
+        p0, p1 = float(self.phi[j]), float(self.phi[j + 1])
+        d0, d1 = float(self.dphi[j]) * h, float(self.dphi[j + 1]) * h
+        t = (s - s0) / h
+        t2, t3 = t * t, t * t * t
+        return (
+            (2 * t3 - 3 * t2 + 1) * p0
+            + (t3 - 2 * t2 + t) * d0
+            + (-2 * t3 + 3 * t2) * p1
+            + (t3 - t2) * d1
+        )
+
+    def __call__(self, u: ArrayLike) -> FloatArray:
+        """``phi(u)`` [-] at separations ``u`` [m] (numpy)."""
+        ua = as_array("u", u, 0.0)
+        H = np.maximum(ua / self.h_rms, 1e-300)
+        s = np.log(H)
+        out = np.empty_like(H)
+        lo, hi = s < self.s[0], s > self.s[-1]
+        out[lo] = self.phi[0] * np.exp(self.k_low * (s[lo] - self.s[0]))
+        out[hi] = 1.0 - self.c_tail / H[hi] ** 2
+        mid = ~(lo | hi)
+        j = np.clip(np.searchsorted(self.s, s[mid], side="right") - 1, 0, self.s.size - 2)
+        out[mid] = [self.segment(int(jj), ss) for jj, ss in zip(j, s[mid], strict=True)]
+        return out
 
 
 def bruggeman_conductivity(
@@ -192,6 +250,19 @@ class BruggemanFlowFactor:
         big = ua > self.u_table[-1]
         out[big] = 2.0 * self._c_tail * self.h_rms**2 / ua[big] ** 3
         return out
+
+    def hermite_table(
+        self, n: int = 25, h_min: float = 0.05, h_max: float = 12.0
+    ) -> LogHermiteTable:
+        """The piecewise cubic Hermite form of :meth:`pressure_factor` in ``ln(u/h_rms)``
+        on ``n`` nodes in ``[h_min, h_max] h_rms`` (for the FEM film; see
+        :class:`LogHermiteTable`)."""
+        check_int_range("n", n, 4)
+        H = np.geomspace(h_min, h_max, n)
+        u = H * self.h_rms
+        phi = self.pressure_factor(u)
+        dphi_ds = self.dpressure_factor_du(u) * u  # d phi / d ln u
+        return LogHermiteTable(np.log(H), phi, dphi_ds, self.h_rms)
 
     def shear_factor(self, u: ArrayLike) -> FloatArray:
         """``phi_s = 0`` (S0's choice, see the module docstring)."""

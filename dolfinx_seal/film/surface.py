@@ -73,7 +73,7 @@ from dolfinx_seal.solid import tractions
 from dolfinx_seal.solid.asperity import area_fraction
 
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
-FLOW_FACTORS = ("none", "patir-cheng")
+FLOW_FACTORS = ("none", "patir-cheng", "persson")
 
 
 @dataclass(frozen=True)
@@ -86,7 +86,9 @@ class FilmParams:
             [m/s]; the mean surface velocity is U/2.  0: no Couette term.
         cavitation: ``none``, ``reynolds`` (p >= 0) or ``jfo`` (mass-conserving).
         flow_factor: Pressure flow factor of the homogenised roughness:
-            ``none`` (phi_p = 1) or ``patir-cheng``.
+            ``none`` (phi_p = 1), ``patir-cheng`` or ``persson`` (the
+            Persson/Bruggeman effective-medium factor of the roughness spectrum,
+            :class:`~dolfinx_seal.contact.flow_factors.BruggemanFlowFactor`).
         upstream: Extent of the lubricated zone upstream of the contact centre,
             in contact half-widths (radii) [-] (flooded inlet: 7-10 for Moes M <= 20).
         downstream: Extent downstream, in contact half-widths [-].
@@ -141,17 +143,29 @@ class FilmScales:
     element: float
 
 
-def pressure_flow_factor(model: str, gap: Any, h_rms: float) -> Any:
+def pressure_flow_factor(model: str, gap: Any, h_rms: float, table: Any = None) -> Any:
     """Pressure flow factor ``phi_p`` of the averaged Reynolds equation (UFL).
 
     ``patir-cheng``: ``1 - 0.90 exp(-0.56 g / h_rms)`` (Patir & Cheng 1978,
     isotropic roughness; the same fit as
-    :class:`dolfinx_seal.contact.flow_factors.PatirCheng`).
+    :class:`dolfinx_seal.contact.flow_factors.PatirCheng`).  ``persson``: the
+    :class:`~dolfinx_seal.contact.flow_factors.LogHermiteTable` ``table`` of the
+    Bruggeman factor, a chain of conditionals over its intervals in ``ln(g/h_rms)``.
     """
     if model == "none":
         return 1.0
     if model == "patir-cheng":
         return 1.0 - 0.90 * ufl.exp(-0.56 * gap / h_rms)
+    if model == "persson":
+        if table is None:
+            raise ParameterError("film.flow_factor = 'persson' needs the roughness spectrum")
+        H = gap / table.h_rms
+        s = ufl.ln(H)
+        expr = 1.0 - table.c_tail / (H * H)
+        for j in range(table.s.size - 2, -1, -1):
+            expr = ufl.conditional(ufl.lt(s, float(table.s[j + 1])), table.segment(j, s), expr)
+        low = float(table.phi[0]) * ufl.exp(float(table.k_low) * (s - float(table.s[0])))
+        return ufl.conditional(ufl.lt(s, float(table.s[0])), low, expr)
     raise ParameterError(f"film.flow_factor = {model!r} must be one of {FLOW_FACTORS}")
 
 
@@ -197,6 +211,7 @@ class SurfaceFilm:
             asperity shear); ``nan``: no asperity shear.
         e_star: Effective modulus ``E*`` [Pa] (real contact area).
         no_flux_tags: Facet tags where the film boundary is a symmetry plane.
+        psd: Roughness spectrum (``flow_factor = "persson"`` only).
 
     After :meth:`attach`, :attr:`blocks` lists ``(residual, function, lower,
     upper)`` per film unknown (pressure, and the film fraction for JFO),
@@ -212,8 +227,18 @@ class SurfaceFilm:
         rms_slope: float = math.nan,
         e_star: float = math.nan,
         no_flux_tags: Sequence[int] = (),
+        psd: Any = None,
     ) -> None:
         self.params, self.scales = params, scales
+        self.flow_table = None
+        if params.flow_factor == "persson":
+            from dolfinx_seal.contact.flow_factors import BruggemanFlowFactor
+
+            if psd is None or not math.isfinite(e_star):
+                raise ParameterError(
+                    "film.flow_factor = 'persson' needs the roughness spectrum and E*"
+                )
+            self.flow_table = BruggemanFlowFactor(psd, e_star).hermite_table()
         self.h_rms = check_positive("h_rms", h_rms, "m")
         self.rms_slope, self.e_star = rms_slope, e_star
         self.no_flux_tags = tuple(no_flux_tags)
@@ -244,7 +269,11 @@ class SurfaceFilm:
         self.da = ufl.sqrt(ufl.dot(nanson, nanson)) * ctx.weight  # da / dA
         self.n = nanson / ufl.sqrt(ufl.dot(nanson, nanson))
         self.g = ufl.max_value(ctx.gap, pr.gap_floor * self.h_rms)
-        phi_p = pressure_flow_factor(pr.flow_factor, self.g, self.h_rms)
+        phi_p = pressure_flow_factor(pr.flow_factor, self.g, self.h_rms, self.flow_table)
+        # homotopy weight of the flow factor (1: phi_p; 0: smooth walls), for starts
+        self.flow_factor_weight = dolfinx.fem.Constant(mesh, 1.0)
+        if pr.flow_factor != "none":
+            phi_p = 1.0 - self.flow_factor_weight * (1.0 - phi_p)
         self.conductivity = phi_p * self.g**3 / (12.0 * pr.viscosity)  # m^3/(Pa s)
         self.speed = dolfinx.fem.Constant(mesh, float(pr.speed))
         t = ctx.sliding - ufl.dot(ctx.sliding, self.n) * self.n

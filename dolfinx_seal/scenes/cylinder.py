@@ -166,6 +166,7 @@ def build_lubricated(
     film = SurfaceFilm(
         params.film, FilmScales(pressure=p_h, length=a_h, gap=h_rms, element=params.h_contact),
         h_rms=h_rms, rms_slope=rms_slope, e_star=e_star,
+        psd=params.roughness.build() if params.film.flow_factor == "persson" else None,
     )  # fmt: skip
     snes = SNESOptions(
         max_it=60, dtol=1e12, rtol=1e-11,
