@@ -220,10 +220,15 @@ def start_coupled(
     snes = prob.solver.snes
     max_it = snes.getTolerances()[3]
     snes.setTolerances(max_it=START_MAX_IT)
+    ramp_flow = prob.film.params.flow_factor != "none"
+    if ramp_flow:  # start on smooth-wall flow, then bring the flow factor in
+        prob.film.flow_factor_weight.value = 0.0
     try:
         its += prob.solve_at(1.0, where=f"{where} at speed {v0:.3g} m/s (start)")
     finally:
         prob.solver.snes.setTolerances(max_it=max_it)
+    if ramp_flow:
+        its += _ramp_flow_factor(prob, where)
     strategy = "direct"
     if v0 < target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, stepping)
@@ -240,6 +245,35 @@ def start_coupled(
         "solve_time_s": time.perf_counter() - t0,
         "strategy": strategy,
     }
+
+
+def _ramp_flow_factor(prob: Any, where: str, min_step: float = 1.0 / 64) -> int:
+    """Bring the film's pressure flow factor in from smooth-wall flow (weight 0 -> 1),
+    halving the weight step on a failed solve.  Returns the Newton steps.
+
+    From the dry shape the Newton step with the full factor overshoots (the
+    factor cuts the Poiseuille conductivity 5-10x at boundary-lubrication gaps)."""
+    w = prob.film.flow_factor_weight
+    its, done, step = 0, 0.0, 0.25
+    while done < 1.0:
+        target = min(1.0, done + step)
+        saved = prob._state()
+        w.value = target
+        try:
+            its += prob.solve_at(1.0, where=f"{where}: flow factor weight {target:.3g}")
+            done = target
+            step = min(2.0 * step, 0.5)
+        except SolverError as e:
+            prob._restore(saved)
+            w.value = done
+            step /= 2.0
+            if step < min_step:
+                raise SolverError(
+                    f"flow factor could not be brought in beyond weight {done:.3g}: {e.what}",
+                    where=where,
+                    partial={"flow_factor_weight": done},
+                ) from e
+    return its
 
 
 def order_speeds(values: Sequence[float], order: str) -> list[float]:
