@@ -27,6 +27,7 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/reynolds_scaling.py
 	$(DX) python3 bench/coupled_vs_partitioned.py
 	$(DX) python3 bench/cylinder_newton_vs_mesh.py
+	$(DX) python3 bench/ball_similar_meshes.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"
