@@ -3,6 +3,8 @@
 Sweeps ``dolfinx-seal sweep cylinder`` over speed for
 
 * h_rms = 1, 3, 6 um at E = 10 MPa (S1 figures 8-10: the minimum moves with h_rms);
+* h_rms = 1 um with the Persson/Bruggeman pressure flow factor (not in S1, which
+  has none);
 * E = 10 MPa, 100 MPa, 1 GPa with the Reynolds condition and without
   cavitation (full Sommerfeld) (S1 figures 12, 14-15), with S1's asperity
   shear stress sigma_1 = 1, 10, 100 MPa (E / 10);
@@ -34,6 +36,8 @@ CURVES = {
     "h3um": {"roughness": {"h_rms": 3e-6}},
     "h6um": {"roughness": {"h_rms": 6e-6}},
     "h1um-nocav": {"roughness": {"h_rms": 1e-6}, "film": {"cavitation": "none"}},
+    # not in S1: the Persson/Bruggeman pressure flow factor of the same roughness
+    "h1um-flowfactor": {"roughness": {"h_rms": 1e-6}, "film": {"flow_factor": "persson"}},
     # S1 figures 14-15: sigma_1 = 10 MPa at E = 100 MPa, 100 MPa at E = 1 GPa
     "E100MPa": {"material": {"E": 100e6}, "film": {"asperity_shear": 10e6}},
     "E100MPa-nocav": {
