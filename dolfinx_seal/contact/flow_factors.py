@@ -50,7 +50,7 @@ from scipy.special import erfinv
 from dolfinx_seal.contact.base import FloatArray, as_array
 from dolfinx_seal.contact.persson_theory import PerssonTheory
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_int_range, check_positive
+from dolfinx_seal.params import check_int_range, check_positive, check_range
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
 _PC_C, _PC_R = 0.90, 0.56
@@ -258,6 +258,8 @@ class BruggemanFlowFactor:
         on ``n`` nodes in ``[h_min, h_max] h_rms`` (for the FEM film; see
         :class:`LogHermiteTable`)."""
         check_int_range("n", n, 4)
+        check_range("h_min", h_min, 0.0, 1.0, lo_open=True, unit="h_rms")
+        check_range("h_max", h_max, 2.0, 1e3, unit="h_rms")
         H = np.geomspace(h_min, h_max, n)
         u = H * self.h_rms
         phi = self.pressure_factor(u)

@@ -190,14 +190,12 @@ def start_coupled(
     *,
     pressure_guess: Any = None,
     peak_gap: float = 0.0,
-    film_guess: bool = False,
 ) -> dict[str, Any]:
     """Bring a coupled (film + body) problem to its first converged state at ``target``.
 
     With ``pressure_guess`` (UFL, [Pa]) the body is first deformed under it
     (:meth:`~dolfinx_seal.solid.problem.SolidContactProblem.warm_start`, lowest
-    point at the gap ``peak_gap``); with ``film_guess`` the fluid pressure
-    starts from it too (a hydrodynamic start).  Then one coupled Newton solve at
+    point at the gap ``peak_gap``).  Then one coupled Newton solve at
     ``min(target, v_start)`` (boundary lubrication: the film carries little and
     the dry shape is a good start; up to :data:`START_MAX_IT` steps, since the
     contact and cavitation active sets may move one node per step from there,
@@ -209,8 +207,6 @@ def start_coupled(
     its = 0
     if pressure_guess is not None:
         its += prob.warm_start(pressure_guess, peak_gap)
-        if film_guess:
-            prob.film.set_pressure(pressure_guess)
     v0 = min(target, v_start) if target > 0 else target
     if v0 < target:
         prob.film.set_speed(v0)

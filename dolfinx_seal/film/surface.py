@@ -435,15 +435,6 @@ class SurfaceFilm:
             self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
         )
 
-    def set_pressure(self, pressure: Any) -> None:
-        """Set the fluid pressure to a UFL expression [Pa] on the free film dofs
-        (a Newton start; the boundary values stay)."""
-        f = dolfinx.fem.Function(self.S)
-        f.interpolate(dolfinx.fem.Expression(pressure, interpolation_points(self.S.element)))
-        free = self.film_dofs_local
-        self.P.x.array[free] = f.x.array[free] / self.scales.pressure
-        self.P.x.scatter_forward()
-
     # ---------------------------------------------------------------- physics
     def shear_on_rubber(self) -> Any:
         """Shear stress on the rubber along :attr:`t` [Pa] (fluid + asperities)."""

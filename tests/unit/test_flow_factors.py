@@ -107,3 +107,6 @@ def test_log_hermite_table_of_the_bruggeman_factor(emt):
     far = np.array([30.0, 100.0]) * emt.h_rms
     np.testing.assert_allclose(tab(far), 1 - tab.c_tail * (emt.h_rms / far) ** 2, rtol=1e-14)
     assert 0.0 < tab(np.array([0.01 * emt.h_rms]))[0] < tab(np.array([0.05 * emt.h_rms]))[0]
+    for kw, name in (({"h_min": 0.0}, "h_min"), ({"h_max": 1.0}, "h_max"), ({"n": 2}, "n")):
+        with pytest.raises(ParameterError, match=name):
+            emt.hermite_table(**kw)
