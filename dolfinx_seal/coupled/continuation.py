@@ -18,6 +18,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+from mpi4py import MPI
+
 from dolfinx_seal.errors import SolverError
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_int_range, check_positive, check_range
@@ -98,7 +101,11 @@ def speed_sweep(
             if st.predictor and len(history) == 2:
                 (la, sa), (lb, sb) = history
                 r = (math.log10(s_try) - lb) / (lb - la)
-                prob._restore([b + r * (b - a) for a, b in zip(sa, sb, strict=True)])
+                pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
+                closure = getattr(prob, "max_gap_closure", None)
+                if closure:
+                    pred = _safeguard_predictor(prob, saved, pred, closure)
+                prob._restore(pred)
             try:
                 hist = prob.solver.solve(where=f"{prob.name} at speed {s_try:.4g} m/s")
             except SolverError as e:
@@ -136,6 +143,31 @@ def speed_sweep(
             log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
                       target, rec.error, float(film.speed.value))  # fmt: skip
     return records
+
+
+def _safeguard_predictor(
+    prob: Any, saved: list[Any], pred: list[Any], closure: float, tries: int = 6
+) -> list[Any]:
+    """Shorten a secant predictor until every film gap obeys the rule of the problem's
+    Newton step limiter: it shrinks by at most the fraction ``closure`` and grows by at
+    most the factor ``1 / (1 - closure)``, or changes by at most ``max_gap_step``.
+    A straight extrapolation of the state closes the thin exit film of the 3D ball
+    (its gap halves per half decade of speed) and leaves Newton a residual 1e4
+    times the converged one."""
+    g0 = np.maximum(prob.film.owned_gaps(), 0.0)
+    allowed = np.maximum(closure * g0, getattr(prob, "max_gap_step", None) or 0.0)
+    grown = np.maximum(closure / (1.0 - closure) * g0, allowed)
+    comm = prob.mesh.comm
+    scale = 1.0
+    for _ in range(tries):
+        trial = [s + scale * (p - s) for s, p in zip(saved, pred, strict=True)]
+        prob._restore(trial)
+        dg = prob.film.owned_gaps() - g0
+        ok = bool(np.all((-dg <= allowed) & (dg <= grown)))
+        if comm.allreduce(ok, op=MPI.LAND):
+            return trial
+        scale *= 0.5
+    return saved
 
 
 def reynolds_presolve(prob: Any, where: str = "") -> int:
@@ -190,12 +222,16 @@ def start_coupled(
     *,
     pressure_guess: Any = None,
     peak_gap: float = 0.0,
+    film_guess: bool = False,
 ) -> dict[str, Any]:
     """Bring a coupled (film + body) problem to its first converged state at ``target``.
 
     With ``pressure_guess`` (UFL, [Pa]) the body is first deformed under it
     (:meth:`~dolfinx_seal.solid.problem.SolidContactProblem.warm_start`, lowest
-    point at the gap ``peak_gap``).  Then one coupled Newton solve at
+    point at the gap ``peak_gap``); with ``film_guess`` (a hydrodynamic start)
+    the fluid pressure starts from it too and is then solved, with the counter
+    position, on the frozen deformed shape (:func:`film_presolve`).  Then one
+    coupled Newton solve at
     ``min(target, v_start)`` (boundary lubrication: the film carries little and
     the dry shape is a good start; up to :data:`START_MAX_IT` steps, since the
     contact and cavitation active sets may move one node per step from there,
@@ -207,9 +243,14 @@ def start_coupled(
     its = 0
     if pressure_guess is not None:
         its += prob.warm_start(pressure_guess, peak_gap)
+        if film_guess:
+            prob.film.set_pressure(pressure_guess)
     v0 = min(target, v_start) if target > 0 else target
     if v0 < target:
         prob.film.set_speed(v0)
+    if film_guess:
+        prob.set_fraction(1.0)
+        its += film_presolve(prob, where)
     if prob.film.has_theta:
         prob.set_fraction(1.0)
         its += reynolds_presolve(prob)
@@ -241,6 +282,21 @@ def start_coupled(
         "solve_time_s": time.perf_counter() - t0,
         "strategy": strategy,
     }
+
+
+def film_presolve(prob: Any, where: str) -> int:
+    """Solve the film (and the counter position, under force control) on the frozen
+    deformed shape: the first half-step of the partitioned scheme.  Returns the
+    Newton steps.
+
+    From a Hertz-deformed body with the Hertz pressure as fluid pressure, the
+    first coupled Newton step of the 3D ball moves the inlet rim by hundreds of
+    micrometres (the linearisation is far off), and a limited step then creeps;
+    after this presolve the coupled Newton converges in 13-17 steps (measured on
+    a/15 and a/20 meshes of the S1 ball)."""
+    pos = [b for b in prob.blocks if prob.control == "force" and b[1] is prob.position]
+    solver = prob.film.make_solver(prob.solver.options, pos, name=f"{prob.name} film start")
+    return solver.solve(where=f"{where}: film on the start shape").newton_iterations
 
 
 def _ramp_flow_factor(prob: Any, where: str, min_step: float = 1.0 / 64) -> int:
@@ -290,6 +346,7 @@ __all__ = [
     "SpeedStepping",
     "SweepRecord",
     "boundary_start_speed",
+    "film_presolve",
     "order_speeds",
     "reynolds_presolve",
     "speed_sweep",

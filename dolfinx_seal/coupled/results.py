@@ -67,15 +67,26 @@ def lubricated_results(
         out[f"mu_{k}"] = v / normal if normal else math.nan
     if prob.control != "force":
         del out["load_balance_error"]
+    X = vals["X"]
     if prob.mesh.geometry.dim == 2:
+        line = np.arange(xc.size)
         out["h_central"] = float(np.interp(0.0, xc, gap))
         cav = _cavitated(film.params.cavitation, p, theta)
         dx = np.gradient(xc)
         out["cavitation_fraction"] = float(dx[cav].sum() / dx.sum())
-        i = int(np.argmax(p))
-        after = np.flatnonzero(cav[i:])
-        if after.size:
-            out["x_cavitation"] = float(xc[i + after[0]])
+    else:  # 3D: centre line y = 0 (the symmetry plane of a half model)
+        out["h_central"] = _central_value(X, gap)
+        cav_ind = _cavitated(film.params.cavitation, film.P, film.theta_fn, ufl_form=True)
+        area = prob.integrate(film.da, ds)
+        out["cavitation_fraction"] = prob.integrate(cav_ind * film.da, ds) / area
+        line = np.flatnonzero(np.abs(X[:, 1]) <= 1e-9 * np.abs(X[:, 0]).max())
+        line = line[np.argsort(X[line, 0])]
+    xl, pl = xc[line], p[line]
+    cavl = _cavitated(film.params.cavitation, pl, theta[line])
+    i = int(np.argmax(pl))
+    after = np.flatnonzero(cavl[i:])
+    if after.size:
+        out["x_cavitation"] = float(xl[i + after[0]])
     if prob.p_cont is not None:
         _, pc = prob.surface_values(prob.p_cont, average=True)
         out["max_contact_pressure"] = float(pc.max())
@@ -87,13 +98,36 @@ def lubricated_results(
     return out
 
 
-def _cavitated(model: str, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """Cavitated nodes: ``theta < 1`` (JFO), ``p <= 0`` (Reynolds), ``p < 0`` (none)."""
+def _cavitated(model: str, p: Any, theta: Any, ufl_form: bool = False) -> Any:
+    """Cavitated nodes: ``theta < 1`` (JFO), ``p <= 0`` (Reynolds), ``p < 0`` (none).
+
+    With ``ufl_form`` (``p`` and ``theta`` functions): the UFL indicator (1 where cavitated).
+    """
+    if ufl_form:
+        if model == "jfo":
+            return ufl.conditional(ufl.lt(theta, 1.0 - 1e-8), 1.0, 0.0)
+        if model == "reynolds":
+            return ufl.conditional(ufl.le(p, 0.0), 1.0, 0.0)
+        return ufl.conditional(ufl.lt(p, 0.0), 1.0, 0.0)
     if model == "jfo":
         return theta < 1.0 - 1e-8
     if model == "reynolds":
         return p <= 0.0
     return p < 0.0
+
+
+def _central_value(X: np.ndarray, values: np.ndarray) -> float:
+    """Linear interpolation of nodal ``values`` on the surface nodes ``X`` (3D) at the
+    contact centre ``x = y = 0`` (the half model is mirrored about ``y = 0``)."""
+    from scipy.interpolate import LinearNDInterpolator
+
+    r = np.hypot(X[:, 0], X[:, 1])
+    near = r <= np.sort(r)[min(r.size - 1, 200)]
+    xy = X[near][:, :2]
+    v = values[near]
+    off = xy[:, 1] > 1e-9 * np.abs(xy).max()
+    xy = np.vstack([xy, xy[off] * [1.0, -1.0]])
+    return float(LinearNDInterpolator(xy, np.concatenate([v, v[off]]))(0.0, 0.0))
 
 
 def write_film_profile(out: Path, prob: Any, title: str) -> None:
@@ -141,6 +175,79 @@ def write_film_profile(out: Path, prob: Any, title: str) -> None:
     plt.close(fig)
 
 
+def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None) -> None:
+    """``film_map.csv`` and ``film_map.png`` of a 3D film (collective; files on rank 0).
+
+    Maps over the current contact plane ``(x, y)`` of the fluid pressure, the
+    asperity pressure, the gap (log scale) and the cavitated zone (film
+    fraction for JFO, ``p = 0`` for the Reynolds condition).  A half model
+    (``y >= 0``) is mirrored about ``y = 0``.  ``extent``: half-size of the
+    plotted window [m] (default: the whole lubricated zone).
+    """
+    film = prob.film
+    vals = film.film_values()
+    X = vals["X"]
+    pc = np.zeros_like(vals["p"])
+    if prob.p_cont is not None:
+        from scipy.spatial import cKDTree
+
+        Xs, pcs = prob.surface_values(prob.p_cont, average=True)
+        _, idx = cKDTree(Xs).query(X)
+        pc = pcs[idx]
+    if COMM_WORLD.rank != 0:
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    x, y = vals["x"][:, 0], vals["x"][:, 1]
+    cav = _cavitated(film.params.cavitation, vals["p"], vals["theta"])
+    cols = {"x_m": x, "y_m": y, "X_m": X[:, 0], "Y_m": X[:, 1], "p_fluid_Pa": vals["p"],
+            "p_contact_Pa": pc, "gap_m": vals["gap"], "theta": vals["theta"],
+            "cavitated": cav.astype(float)}  # fmt: skip
+    data = np.column_stack(list(cols.values()))
+    np.savetxt(out / "film_map.csv", data, delimiter=",", header=",".join(cols), comments="")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.tri as mtri
+
+    half = X[:, 1].min() >= -1e-12 * np.abs(X).max()
+    off = y > 1e-12 * np.abs(X).max()
+    xs = np.concatenate([x, x[off]]) if half else x
+    ys = np.concatenate([y, -y[off]]) if half else y
+
+    def mirrored(v: np.ndarray) -> np.ndarray:
+        return np.concatenate([v, v[off]]) if half else v
+
+    tri = mtri.Triangulation(xs * 1e3, ys * 1e3)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8.6))
+    panels = [
+        ("fluid pressure [MPa]", mirrored(vals["p"]) / 1e6, "viridis", False),
+        ("asperity pressure [MPa]", mirrored(pc) / 1e6, "magma", False),
+        ("log10 gap [um]", np.log10(np.maximum(mirrored(vals["gap"]), 1e-12) * 1e6), "cividis", False),
+        (
+            "film fraction (JFO)" if film.has_theta else "cavitated (p = 0)",
+            mirrored(vals["theta"]) if film.has_theta else mirrored(cav.astype(float)),
+            "Blues_r" if film.has_theta else "Greys",
+            True,
+        ),
+    ]  # fmt: skip
+    for ax, (label, v, cmap, bounded) in zip(axes.flat, panels, strict=True):
+        levels = np.linspace(0.0, 1.0, 11) if bounded else 24
+        cs = ax.tricontourf(tri, v, levels=levels, cmap=cmap)
+        fig.colorbar(cs, ax=ax, shrink=0.85)
+        ax.set_title(label, fontsize=10)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm] (sliding)")
+        ax.set_ylabel("y [mm]")
+        if extent:
+            ax.set_xlim(-extent * 1e3, extent * 1e3)
+            ax.set_ylim(-extent * 1e3, extent * 1e3)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out / "film_map.png", dpi=110)
+    plt.close(fig)
+
+
 def write_fields(out: Path, prob: Any, name: str = "fields") -> Path:
     """Write ``NAME.xdmf`` for ParaView: displacement [m], fluid pressure [Pa], film
     fraction (JFO) and asperity pressure [Pa] as P1 fields (collective)."""
@@ -177,4 +284,4 @@ def write_fields(out: Path, prob: Any, name: str = "fields") -> Path:
     return path
 
 
-__all__ = ["lubricated_results", "write_fields", "write_film_profile"]
+__all__ = ["lubricated_results", "write_fields", "write_film_map", "write_film_profile"]

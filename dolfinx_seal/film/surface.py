@@ -435,6 +435,15 @@ class SurfaceFilm:
             self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
         )
 
+    def set_pressure(self, pressure: Any) -> None:
+        """Set the fluid pressure to a UFL expression [Pa] on the free film dofs
+        (a Newton start; the boundary values stay)."""
+        f = dolfinx.fem.Function(self.S)
+        f.interpolate(dolfinx.fem.Expression(pressure, interpolation_points(self.S.element)))
+        free = self.film_dofs_local
+        self.P.x.array[free] = f.x.array[free] / self.scales.pressure
+        self.P.x.scatter_forward()
+
     # ---------------------------------------------------------------- physics
     def shear_on_rubber(self) -> Any:
         """Shear stress on the rubber along :attr:`t` [Pa] (fluid + asperities)."""
@@ -483,6 +492,20 @@ class SurfaceFilm:
         return -self.p * ufl.dot(nanson, self.ctx.e_n) * self.ctx.weight
 
     # ---------------------------------------------------------------- outputs
+    def owned_gaps(self) -> np.ndarray:
+        """Gap [m] at the owned dofs of the lubricated surface (no communication)."""
+        if getattr(self, "_gap_fn", None) is None:
+            ctx, S = self.ctx, self.S
+            fdim = ctx.mesh.topology.dim - 1
+            dofs = dolfinx.fem.locate_dofs_topological(
+                S, fdim, ctx.facet_tags.find(ctx.contact_tag)
+            )
+            self._gap_dofs = dofs[dofs < S.dofmap.index_map.size_local]
+            self._gap_fn = dolfinx.fem.Function(S)
+            self._gap_expr = dolfinx.fem.Expression(ctx.gap, interpolation_points(S.element))
+        self._gap_fn.interpolate(self._gap_expr)
+        return self._gap_fn.x.array[self._gap_dofs].copy()
+
     def film_values(self) -> dict[str, np.ndarray]:
         """Nodal values on the lubricated surface, gathered and sorted by reference x.
 

@@ -128,6 +128,14 @@ class SolidContactProblem:
             [m] (normal displacement minus counter-surface motion).  A few decay
             lengths of the contact law keep Newton on an exponential law from
             overshooting by decades of pressure (DESIGN.md section 5); None: no limit.
+        max_gap_closure: Largest fraction f (0-1) of its current value by which a
+            contact gap may close in one Newton step; it may open by at most the
+            factor 1/(1 - f).  For films, whose conductance goes as g^3: it keeps a
+            step from a poor start from closing (or blowing open) the film, without
+            slowing the far, wide gaps (which a fixed ``max_gap_step`` does).  With
+            both, a gap may always change by ``max_gap_step`` (near asperity
+            contact, where the gap is a small part of h_rms and the contact law
+            limits the step); None: no limit.
         film: Optional :class:`~dolfinx_seal.film.surface.SurfaceFilm` on the
             contact surface: its unknowns join the Newton system, its pressure and
             shear act on the body and count in the force equation.
@@ -167,6 +175,7 @@ class SolidContactProblem:
         extra_residual: Callable[[SolidContactProblem], Any] | None = None,
         max_step: float | None = None,
         max_gap_step: float | None = None,
+        max_gap_closure: float | None = None,
         name: str = "solid",
         film: Any = None,
         bulk: bool = True,
@@ -308,8 +317,15 @@ class SolidContactProblem:
             blocks.append((R_r, self.position, None, None))
         self.blocks = blocks
         self.max_step, self.max_gap_step = max_step, max_gap_step
-        bulk_limits = self.bulk and (max_step or max_gap_step)
-        limiter = self._step_limiter(max_step, max_gap_step) if bulk_limits else None
+        self.max_gap_closure = max_gap_closure
+        if max_gap_closure is not None:
+            check_range("max_gap_closure", max_gap_closure, 0.0, 1.0, lo_open=True, hi_open=True)
+        bulk_limits = self.bulk and (max_step or max_gap_step or max_gap_closure)
+        limiter = (
+            self._step_limiter(max_step, max_gap_step, closure=max_gap_closure)
+            if bulk_limits
+            else None
+        )
         if not self.bulk and control == "force":
             limiter = self._rigid_gap_limiter()
         self._max_step_limiter = (
@@ -358,9 +374,11 @@ class SolidContactProblem:
         max_step: float | None,
         max_gap_step: float | None,
         blocks: Sequence[Any] | None = None,
+        closure: float | None = None,
     ) -> Callable[[np.ndarray, np.ndarray], float]:
         """Pre-check scaling a Newton step so that no displacement dof moves more than
-        ``max_step`` and no contact gap changes by more than ``max_gap_step``.
+        ``max_step``, no contact gap changes by more than ``max_gap_step`` and none
+        closes by more than the fraction ``closure`` of itself.
 
         ``blocks``: the block layout of the solver it serves (default the
         problem's); the counter position counts when it is the last block.
@@ -381,10 +399,13 @@ class SolidContactProblem:
         fdim = self.mesh.topology.dim - 1
         sub = Vu.sub(axis)
         collapsed, _ = sub.collapse()
-        ndofs = dolfinx.fem.locate_dofs_topological(
+        ndofs, cdofs = dolfinx.fem.locate_dofs_topological(
             (sub, collapsed), fdim, self.facet_tags.find(self.contact_tag)
-        )[0]
-        ndofs = ndofs[ndofs < n_own]
+        )
+        owned = ndofs < n_own
+        ndofs = ndofs[owned]
+        # reference coordinate normal to the counter-surface of those dofs [m]
+        Xn = collapsed.tabulate_dof_coordinates()[cdofs[owned], axis]
         if max_step:
             check_positive("max_step", max_step, "m")
         if max_gap_step:
@@ -404,17 +425,39 @@ class SolidContactProblem:
                 big = float(np.abs(dx[dofs]).max(initial=0.0))
                 if big > max_step:
                     s = min(s, max_step / big)
-            if max_gap_step:
+            if max_gap_step or closure:
+                # PETSc steps x -> x - dx: the gap changes by -(dx_n - dx_position)
                 dpos = 0.0
                 if position_free:  # the position dof is the last block
-                    mine = float(dx[pos_index]) if self._owns_position else None
-                    dpos = comm.bcast(mine, root=self._pos_root)
-                dgap = np.abs(dx[ndofs] - dpos).max(initial=0.0)
+                    mine = (
+                        (float(x[pos_index]), float(dx[pos_index])) if self._owns_position else None
+                    )
+                    pos, dpos = comm.bcast(mine, root=self._pos_root)
+                elif closure:
+                    pos = self._position_value()
+                dg = dpos - dx[ndofs]
+            if max_gap_step and not closure:
+                dgap = np.abs(dg).max(initial=0.0)
                 if dgap > max_gap_step:
                     s = min(s, max_gap_step / dgap)
+            if closure:  # g_new / g in [1 - closure, 1 / (1 - closure)], or |dg| <= max_gap_step
+                gap = np.maximum(Xn + x[ndofs] - pos, 0.0)
+                floor = max_gap_step or 0.0
+                allowed = np.where(dg < 0.0, closure, closure / (1.0 - closure)) * gap
+                allowed = np.maximum(allowed, floor)
+                moving = np.abs(dg) > allowed
+                if moving.any():
+                    s = min(s, float((allowed[moving] / np.abs(dg[moving])).min()))
             return s
 
         return limit
+
+    def _position_value(self) -> float:
+        """The counter-surface position [m] (collective in force control)."""
+        if isinstance(self.position, dolfinx.fem.Constant):
+            return float(self.position.value)
+        a = self.position.x.array
+        return float(self.mesh.comm.allreduce(float(a[0]) if a.size else -np.inf, op=MPI.MAX))
 
     def _rigid_gap_limiter(self) -> Callable[[np.ndarray, np.ndarray], float]:
         """Pre-check for a rigid body under force control: one Newton step may change
