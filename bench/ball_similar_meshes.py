@@ -50,7 +50,15 @@ def main(argv: list[str] | None = None) -> None:
     print0("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     prev: list[tuple[float, float]] = []
     for h in args.h:
-        p = make_parameters("ball", values={"contact": {"model": "stiff"}, "h_contact": h})
+        p = make_parameters(
+            "ball",
+            values={
+                "lubricated": False,
+                "contact": {"model": "stiff"},
+                "h_contact": h,
+                "mesh_growth": 0.2,
+            },
+        )
         r = ball_scene.run(p, out / f"ball_similar_{h:.3e}")
         d = r["counter_position"]
         change = abs(prev[-1][1] - d) if prev else math.nan

@@ -71,6 +71,10 @@ class BallParameters:
         contact: Asperity contact law.
         shape: ``half`` (symmetry plane y = 0) or ``full``.
         h_contact: Element size at the contact [m] (at most a_Hertz / 4).
+        mesh_growth: Element size increase per unit depth below the contact surface
+            [-] (0 < growth <= 2): 1 keeps the fine film zone a thin layer, so the
+            film can be resolved (a/25 at about 1e5 unknowns); the dry-ball studies of
+            the README used 0.2.
         degree: Displacement degree.
         lubricated: Solve the film (false: dry contact, no film unknowns).
         film: The lubricant film (speed, viscosity, cavitation model, ...);
@@ -78,7 +82,9 @@ class BallParameters:
         film_extent: Radius of the lubricated cap in Hertz radii [-] (S1 uses
             the window [-1.5 a, 1.5 a]^2 for fig 18-29 and [-4 a, 1.5 a] x [-3 a, 3 a]
             for its appendix D).
-        sweep_order: Order of a speed sweep: ``up``, ``down``, ``up-down`` or ``given``.
+        sweep_order: Order of a speed sweep: ``down`` (default: the sweep starts in
+            full film, where the hydrodynamic start is robust), ``up``, ``up-down``
+            or ``given``.
         stepping: Speed continuation options of sweeps.
     """
 
@@ -89,11 +95,12 @@ class BallParameters:
     contact: ContactLawParams = field(default_factory=ContactLawParams)
     shape: str = "half"
     h_contact: float = 0.25e-3
+    mesh_growth: float = 1.0
     degree: int = 2
     lubricated: bool = True
     film: FilmParams = field(default_factory=lambda: FilmParams(speed=0.01))
     film_extent: float = 3.0
-    sweep_order: str = "up"
+    sweep_order: str = "down"
     stepping: SpeedStepping = field(default_factory=SpeedStepping)
 
     def __post_init__(self) -> None:
@@ -105,6 +112,7 @@ class BallParameters:
         check_range(
             "h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
         )
+        check_range("mesh_growth", self.mesh_growth, 0.0, 2.0, lo_open=True)
         check_range("film_extent", self.film_extent, 1.5, 4.5)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
         if not self.lubricated and self.contact.model == "none":
@@ -135,7 +143,8 @@ def _mesh(params: BallParameters, a_h: float, comm: Any = None) -> Any:
     return create_mesh(
         "ball", comm=comm or COMM_WORLD, radius=params.radius, shape=params.shape,
         contact_radius=a_h, h_contact=params.h_contact,
-        h_cap=max(2 * params.h_contact, min(0.3e-3, a_h / 2)), **extra,
+        h_cap=max(2 * params.h_contact, min(0.3e-3, a_h / 2)), growth=params.mesh_growth,
+        **extra,
     )  # fmt: skip
 
 
@@ -147,9 +156,17 @@ def _bcs(params: BallParameters, tm: Any) -> list[Dirichlet]:
 
 
 def build_lubricated(
-    params: BallParameters, comm: Any = None
+    params: BallParameters, comm: Any = None, position: float | None = None
 ) -> tuple[SolidContactProblem, dict[str, Any]]:
-    """The coupled problem (film on the contact cap, force control) and scalars describing it."""
+    """The coupled problem (film on the contact cap) and scalars describing it.
+
+    Args:
+        params: Scene parameters.
+        comm: Communicator (default COMM_WORLD).
+        position: None: force control (the flat's position is an unknown);
+            otherwise the flat's position [m] (position control, e.g. to check a
+            parallel solution on one rank).
+    """
     e_star = params.material.E_star
     a_h, p_h = hertz_point(params.load, params.radius, e_star)
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
@@ -168,9 +185,12 @@ def build_lubricated(
     factor = 2.0 if half else 1.0
     prob = SolidContactProblem(
         tm.mesh, tm.facet_tags, Solid3D(), params.material.build(), Flat(axis=2), law,
-        tm.tag("contact"), _bcs(params, tm), control="force", target=params.load / factor,
+        tm.tag("contact"), _bcs(params, tm), control="force" if position is None else "position",
+        target=params.load / factor if position is None else position,
+        position0=0.0 if position is None else position,
         degree=params.degree, snes=snes, name="ball", max_step=0.5 * params.h_contact,
-        max_gap_step=3.0 * _decay_length(law) if law is not None else None, film=film,
+        max_gap_step=3.0 * _decay_length(law) if law is not None else None,
+        max_gap_closure=GAP_CLOSURE, film=film,
     )  # fmt: skip
     info = {
         "hertz_contact_radius": a_h,
@@ -197,6 +217,7 @@ def start_speed(params: BallParameters) -> float:
 
 
 START_FILM = 4.0  # central film of the start point, in h_rms
+GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
 
 
 def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[str, Any]:
@@ -204,8 +225,9 @@ def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[
 
     The ball is deformed under the Hertz pressure, the flat placed at the
     Hamrock-Dowson central film of :func:`start_speed`, the fluid pressure set
-    to the Hertz pressure, and the coupled Newton solved there; then speed
-    continuation (down) to ``film.speed``
+    to the Hertz pressure and then solved with the flat's position on that frozen
+    shape (:func:`~dolfinx_seal.coupled.continuation.film_presolve`), and the
+    coupled Newton solved there; then speed continuation (down) to ``film.speed``
     (:func:`~dolfinx_seal.coupled.continuation.start_coupled`).  The
     boundary-lubrication start of the cylinder fails here: at the ball's
     p/E* ~ 0.1 the Persson law sits at separations of ~0.05 h_rms, where the
@@ -276,31 +298,41 @@ def sweep(
     return lubricated_sweep(params, out, name, values, on_point, hooks)
 
 
-def run_dry(params: BallParameters, out: Path) -> dict[str, Any]:
-    """Solve the dry ball; write the pressure profile along x; return the results."""
-    t0 = time.perf_counter()
-    mat = params.material.build()
+def build_dry(
+    params: BallParameters, comm: Any = None
+) -> tuple[SolidContactProblem, dict[str, Any]]:
+    """The dry problem (no film unknowns, force control) and scalars describing it."""
     e_star = params.material.E_star
     a_h, p_h = hertz_point(params.load, params.radius, e_star)
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
-    tm = _mesh(params, a_h)
+    tm = _mesh(params, a_h, comm)
     factor = 2.0 if params.shape == "half" else 1.0
     prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, Solid3D(), mat, Flat(axis=2), law, tm.tag("contact"),
-        _bcs(params, tm),
+        tm.mesh, tm.facet_tags, Solid3D(), params.material.build(), Flat(axis=2), law,
+        tm.tag("contact"), _bcs(params, tm),
         control="force", target=params.load / factor, degree=params.degree,
         snes=SNESOptions(max_it=60, dtol=1e12), name="ball", max_step=0.5 * params.h_contact,
         max_gap_step=3.0 * _decay_length(law),
     )  # fmt: skip
+    info = {"hertz_contact_radius": a_h, "hertz_peak_pressure": p_h, "symmetry_factor": factor,
+            "contact_law": law.name, **law_info}  # fmt: skip
+    return prob, info
+
+
+def run_dry(params: BallParameters, out: Path) -> dict[str, Any]:
+    """Solve the dry ball; write the pressure profile along x; return the results."""
+    t0 = time.perf_counter()
+    prob, info = build_dry(params)
+    a_h, p_h = info["hertz_contact_radius"], info["hertz_peak_pressure"]
+    factor = info["symmetry_factor"]
     X = prob.X
     guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] ** 2 + X[1] ** 2) / a_h**2, 0.0))
-    info = solve_dry(prob, guess, p_h)
+    solve_info = solve_dry(prob, guess, p_h)
     res = dry_results(prob, params.load / factor, line=False, symmetry_factor=factor)
+    res.update(solve_info)
     res.update(info)
-    res.update(
-        hertz_contact_radius=a_h, hertz_peak_pressure=p_h, dofs=prob.dofs, ranks=COMM_WORLD.size,
-        wall_time_s=time.perf_counter() - t0, converged=True, contact_law=law.name, **law_info,
-    )  # fmt: skip
+    res.update(dofs=prob.dofs, ranks=COMM_WORLD.size, wall_time_s=time.perf_counter() - t0,
+               converged=True)  # fmt: skip
     Xs, p = prob.surface_values(prob.p_cont, average=True)
     on_axis = np.abs(Xs[:, 1]) < 1e-9 * params.radius
     x, pa = Xs[on_axis, 0], p[on_axis]
@@ -309,7 +341,7 @@ def run_dry(params: BallParameters, out: Path) -> dict[str, Any]:
     hz = p_h * (1.0 - (x / a_h) ** 2).clip(min=0.0) ** 0.5
     write_profile(
         out, "pressure", {"x_m": x, "p_contact_Pa": pa, "p_hertz_Pa": hz},
-        title=f"dry ball, F = {params.load:g} N, law: {law.name} (y = 0)",
+        title=f"dry ball, F = {params.load:g} N, law: {info['contact_law']} (y = 0)",
         xlabel="x [mm]", ylabel="contact pressure [MPa]",
         curves={"FEM": (x * 1e3, pa / 1e6), "Hertz": (x * 1e3, hz / 1e6)},
     )  # fmt: skip

@@ -6,15 +6,18 @@ conjunction", J. Lubr. Technol. 100, 236-245 (also Hamrock, Schmid & Jacobson,
 "Fundamentals of Fluid Film Lubrication", 2nd ed., eqs 19.9-19.10)::
 
     H_c   = h_c / R_x   = 7.32 (1 - 0.72 exp(-0.28 k)) U^0.64 W^-0.22
-    H_min = h_min / R_x = 8.70 (1 - 0.85 exp(-0.31 k)) U^0.65 W^-0.21
+    H_min = h_min / R_x = 7.43 (1 - 0.85 exp(-0.31 k)) U^0.65 W^-0.21
 
 with ``U = eta u_m / (E' R_x)``, ``W = F / (E' R_x^2)``, ``E' = 2 E*``
 (``1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b``), ``u_m`` the mean
 (entrainment) velocity of the two surfaces and ``k`` the ellipticity (1 for
-a ball).  They are curve fits to the authors' own numerical solutions over
-``k`` 1-12 and the paper's load/speed ranges, so an agreement of a few
-per cent is what a comparison can expect (h_min, on the side lobes of the
-horse-shoe, is the more sensitive one).
+a ball).  They are curve fits to the authors' own numerical solutions
+(17 cases: ``k`` 1-12, speed and load each over one decade; the abstract
+states no fit error), so an agreement of some per cent is what a comparison
+can expect (h_min, on the side lobes of the horse-shoe, is the more sensitive
+one).  The coefficient 8.70 found in some texts belongs to the later
+``g_E`` form ``H_min = 8.70 g_E^0.67 (1 - 0.85 exp(-0.31 k))`` and must not
+be used with U and W.
 """
 
 from __future__ import annotations
@@ -68,7 +71,7 @@ class IsoviscousElasticFilm:
     def h_min(self, u_mean: float) -> float:
         """Minimum film thickness h_min [m]."""
         k = self.ellipticity
-        c = 8.70 * (1.0 - 0.85 * math.exp(-0.31 * k))
+        c = 7.43 * (1.0 - 0.85 * math.exp(-0.31 * k))
         return self.radius * c * self.speed_parameter(u_mean) ** 0.65 * self.load_parameter**-0.21
 
     def mean_speed_for_central(self, h_c: float) -> float:

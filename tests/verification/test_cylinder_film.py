@@ -17,6 +17,7 @@ from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.verification import slider
 from dolfinx_seal.verification.martin import martin_solution
+from dolfinx_seal.verification.parallel import copy_by_coordinates
 
 COARSE = {"h_contact": 20e-6}
 
@@ -107,42 +108,14 @@ def test_parallel_equals_serial_copy(mpi_tmp_path):
     serial, _ = build_lubricated(p, comm=MPI.COMM_SELF, position=par["counter_position"])
     serial.set_fraction(1.0)
     for i in range(2):  # displacement, mixed pressure
-        _copy(prob.W.sub(i), prob.w, serial.W.sub(i), serial.w)
-    _copy(prob.film.S, prob.film.P, serial.film.S, serial.film.P)
+        copy_by_coordinates(prob.W.sub(i), prob.w, serial.W.sub(i), serial.w)
+    copy_by_coordinates(prob.film.S, prob.film.P, serial.film.S, serial.film.P)
     its = serial.solver.solve(where="serial copy").newton_iterations
     assert its <= 2
     ser = lubricated_results(serial)
     assert ser["normal_load"] == pytest.approx(par["normal_load"], rel=1e-6)
     for k in ("mu", "load_fluid", "h_min", "h_central", "max_fluid_pressure"):
         assert ser[k] == pytest.approx(par[k], rel=1e-6), k
-
-
-def _copy(V_src, f_src, V_dst, f_dst) -> None:
-    """Copy the values of sub-space ``V_src`` of ``f_src`` (any communicator) into
-    ``V_dst`` of ``f_dst`` by matching dof coordinates."""
-    from scipy.spatial import cKDTree
-
-    def table(V, f):
-        try:
-            Vc, dofs = V.collapse()
-        except RuntimeError:  # not a sub-space
-            Vc, dofs = V, np.arange(f.x.array.size)
-        bs = Vc.dofmap.index_map_bs
-        n = Vc.dofmap.index_map.size_local
-        X = Vc.tabulate_dof_coordinates()[:n]
-        dofs = np.asarray(dofs).reshape(-1, bs)[:n]
-        return X, dofs
-
-    Xs, ds = table(V_src, f_src)
-    vals = f_src.x.array[ds]
-    comm = f_src.function_space.mesh.comm
-    Xs = np.concatenate(comm.allgather(Xs))
-    vals = np.concatenate(comm.allgather(vals))
-    Xd, dd = table(V_dst, f_dst)
-    dist, idx = cKDTree(Xs).query(Xd)
-    assert dist.max() < 1e-12
-    f_dst.x.array[dd] = vals[idx]
-    f_dst.x.scatter_forward()
 
 
 def _build(**values):

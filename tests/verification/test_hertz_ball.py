@@ -20,7 +20,15 @@ A_H, P_H = hertz_point(1.3, 0.01, 1.2e6 / 0.75)
 
 @pytest.mark.slow
 def test_ball_hertz(mpi_tmp_path):
-    p = make_parameters("ball", values={"contact": {"model": "stiff"}, "h_contact": 0.28e-3})
+    p = make_parameters(
+        "ball",
+        values={
+            "lubricated": False,
+            "mesh_growth": 0.2,
+            "contact": {"model": "stiff"},
+            "h_contact": 0.28e-3,
+        },
+    )
     r = run_scene("ball", p, mpi_tmp_path)
     assert r["converged"] and r["load_balance_error"] < 1e-8
     assert r["normal_load"] == pytest.approx(1.3, rel=1e-8)  # twice the half model
@@ -38,7 +46,12 @@ def test_ball_rough_is_hertz_like(mpi_tmp_path):
     tolerances as the smooth case."""
     p = make_parameters(
         "ball",
-        values={"h_contact": 0.3e-3, "roughness": {"h_rms": 1.6e-6}},
+        values={
+            "lubricated": False,
+            "mesh_growth": 0.2,
+            "h_contact": 0.3e-3,
+            "roughness": {"h_rms": 1.6e-6},
+        },
     )
     r = run_scene("ball", p, mpi_tmp_path)
     assert r["converged"] and r["load_balance_error"] < 1e-8

@@ -1,0 +1,116 @@
+"""The lubricated ball (S1 section 3): balances, what is assembled, serial = parallel,
+a short sweep, and (slow) the Hamrock-Dowson isoviscous-elastic film."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from dolfinx_seal.coupled.results import lubricated_results
+from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.output import column, read_csv
+from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
+from dolfinx_seal.scenes.ball import build_lubricated, start_lubricated
+from dolfinx_seal.scenes.common import hertz_point
+from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
+from dolfinx_seal.verification.parallel import copy_by_coordinates
+
+A_H, P_H = hertz_point(1.3, 0.01, 1.2e6 / 0.75)  # S1 fig 18 ball: 1.83 mm, 0.186 MPa
+COARSE = {"h_contact": A_H / 8}  # ~36k unknowns; a sweep 0.3 -> 0.1 m/s takes about 1 min
+
+
+def test_full_film_point_balances_and_splits_the_load(mpi_tmp_path):
+    p = make_parameters("ball", values={**COARSE, "film": {"speed": 0.3}})
+    r = run_scene("ball", p, mpi_tmp_path)
+    assert r["dof_counts"].keys() == {"displacement", "fluid_pressure", "position"}
+    assert r["normal_load"] == pytest.approx(1.3, rel=1e-9)  # twice the half model
+    assert r["load_balance_error"] < 1e-9
+    assert r["mass_balance_error"] < 1e-8
+    assert r["fluid_load_fraction"] > 0.99  # full film at U = 0.3 m/s (h_c ~ 10 h_rms)
+    parts = r["mu_couette"] + r["mu_poiseuille"] + r["mu_asperity"]
+    assert parts == pytest.approx(r["mu"], rel=1e-12)
+    assert 0 < r["h_min"] < r["h_central"]
+    assert r["x_cavitation"] > 0  # rupture downstream of the centre
+    assert 0 < r["cavitation_fraction"] < 1
+    if COMM_WORLD.rank == 0:
+        table = np.loadtxt(mpi_tmp_path / "film_map.csv", delimiter=",", skiprows=1)
+        assert np.all(table[:, 4] >= 0)  # p_fluid >= 0 (Reynolds condition)
+        assert (mpi_tmp_path / "film_map.png").stat().st_size > 1000
+        xdmf = (mpi_tmp_path / "fields.xdmf").read_text()
+        assert "fluid_pressure" in xdmf
+
+
+def test_dry_ball_has_no_film_unknowns():
+    p = make_parameters("ball", values={**COARSE, "lubricated": False})
+    from dolfinx_seal.scenes.ball import build_dry
+
+    prob = build_dry(p)[0]
+    assert prob.film is None and set(prob.dof_counts()) == {"displacement", "position"}
+
+
+def test_parallel_equals_serial_copy():
+    """The 2-rank force-controlled point solves the same discrete problem as one rank:
+    its fields, copied dof by dof into a one-rank build of the same mesh with the flat
+    held where the 2 ranks put it, leave Newton nothing to do (at most 2 steps) and
+    give the same load, mu and film.  (A one-rank force-controlled build inside a
+    2-rank job aborts in MPI with MPI_ERR_ARG; run separately, 1 and 2 ranks give
+    mu and h_central equal to 3e-14, README.)"""
+    if COMM_WORLD.size == 1:
+        pytest.skip("compares 2 ranks with a serial copy")
+    p = make_parameters("ball", values={**COARSE, "film": {"speed": 0.3}})
+    prob, info = build_lubricated(p)
+    start_lubricated(prob, p)
+    par = lubricated_results(prob, symmetry_factor=2.0, nominal_area=info["nominal_area"])
+    serial, _ = build_lubricated(p, comm=MPI.COMM_SELF, position=par["counter_position"])
+    serial.set_fraction(1.0)
+    for i in range(2):  # displacement, mixed pressure
+        copy_by_coordinates(prob.W.sub(i), prob.w, serial.W.sub(i), serial.w)
+    copy_by_coordinates(prob.film.S, prob.film.P, serial.film.S, serial.film.P)
+    its = serial.solver.solve(where="serial copy").newton_iterations
+    assert its <= 2
+    ser = lubricated_results(serial, symmetry_factor=2.0, nominal_area=info["nominal_area"])
+    assert ser["normal_load"] == pytest.approx(par["normal_load"], rel=1e-6)
+    for k in ("mu", "load_fluid", "h_min", "h_central", "max_fluid_pressure"):
+        assert ser[k] == pytest.approx(par[k], rel=1e-6), k
+
+
+def test_short_sweep_down_keeps_every_point(mpi_tmp_path):
+    p = make_parameters("ball", values=COARSE)
+    speeds = [0.3, 0.1]
+    rows = sweep_scene("ball", p, mpi_tmp_path, "film.speed", speeds)
+    assert len(rows) == 2
+    COMM_WORLD.barrier()
+    table = read_csv(mpi_tmp_path / "sweep.csv")
+    assert column(table, "film.speed") == speeds  # the ball sweeps downwards by default
+    h_c, mu = column(table, "h_central"), column(table, "mu")
+    assert h_c[1] < h_c[0] and mu[1] < mu[0]  # the hydrodynamic branch
+    assert min(column(table, "fluid_load_fraction")) > 0.99
+    assert max(column(table, "load_balance_error")) < 1e-9
+    assert max(column(table, "mass_balance_error")) < 1e-8
+    if COMM_WORLD.rank == 0:
+        assert (mpi_tmp_path / "sweep.png").stat().st_size > 1000
+        assert (mpi_tmp_path / "speed_1.000e-01" / "film_map.png").exists()
+
+
+@pytest.mark.slow
+def test_smooth_full_film_follows_hamrock_dowson(mpi_tmp_path):
+    """Smooth ball (no asperity contact), S1 figure-18 system, a/20 elements, sweep
+    0.3 -> 0.1 m/s (about 2 min).
+
+    Measured (bench/ball_hamrock_dowson.py): h_min +1.9 % / -2.2 % against the
+    Hamrock-Dowson regression, h_central +6.8 % / +10.4 %, and the speed exponent of
+    h_central 0.61 (regression 0.64).  h_central converges under refinement to about
+    +14 % at 0.1 m/s (a/10 ... a/30 study in the README): an offset from the 1978
+    regression that this test does not hide, so it checks h_min (5 %, the fit is over
+    17 cases of 1970s grids) and the speed exponent (0.05), not h_central's level."""
+    p = make_parameters("ball", values={"h_contact": A_H / 20, "contact": {"model": "none"}})
+    rows = sweep_scene("ball", p, mpi_tmp_path, "film.speed", [0.3, 0.1])
+    assert len(rows) == 2
+    hd = IsoviscousElasticFilm(0.01, 1.2e6 / 0.75, 0.1, 1.3)
+    for r in rows:
+        v = float(r["speed"])
+        assert r["h_min"] == pytest.approx(hd.h_min(v / 2), rel=0.05), v
+        assert r["mass_balance_error"] < 1e-8 and r["load_balance_error"] < 1e-9
+    exponent = np.log(rows[0]["h_central"] / rows[1]["h_central"]) / np.log(3.0)
+    assert exponent == pytest.approx(0.64, abs=0.05)
