@@ -6,8 +6,8 @@ PYTEST_FLAGS ?= -q -p no:cacheprovider
 
 .PHONY: demo test test-serial test-mpi test-slow lint bench env
 
-demo:  ## the main demo (writes into results/demo)
-	$(DX) python3 demos/reynolds_1d.py --out results/demo
+demo:  ## the main demo: a short ball Stribeck sweep (writes into results/demo)
+	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo
 
 test: test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
 
@@ -28,6 +28,7 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/coupled_vs_partitioned.py
 	$(DX) python3 bench/cylinder_newton_vs_mesh.py
 	$(DX) python3 bench/ball_similar_meshes.py
+	$(DX) python3 bench/ball_hamrock_dowson.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from demos import obstacle, reynolds_1d
+from demos import ball_stribeck, obstacle, reynolds_1d
 
 
 def test_reynolds_demo_tiny(mpi_tmp_path):
@@ -21,3 +21,19 @@ def test_reynolds_demo_tiny(mpi_tmp_path):
 
 def test_obstacle_demo_tiny():
     obstacle.main(["--cells", "8"])
+
+
+def test_ball_demo_tiny(mpi_tmp_path):
+    """The main demo at one speed on a coarse mesh (a/8): the sweep files and the
+    Hamrock-Dowson table are written."""
+    out = mpi_tmp_path / "ball"
+    assert (
+        ball_stribeck.main(["--speeds", "0.3", "--elements-per-radius", "8", "--out", str(out)])
+        == 0
+    )
+    from dolfinx_seal.mpi import COMM_WORLD
+
+    COMM_WORLD.barrier()
+    assert (out / "sweep.csv").read_text().count("\n") == 2  # header + one speed
+    assert (out / "hamrock_dowson.csv").read_text().count("\n") == 2
+    assert (out / "speed_3.000e-01" / "film_map.png").stat().st_size > 1000
