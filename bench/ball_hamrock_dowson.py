@@ -55,18 +55,13 @@ def main(argv: list[str] | None = None) -> None:
         rows = sweep_scene("ball", p, out / f"hd_load_{load:g}N", "film.speed", args.speeds)
         for r in rows:
             v = float(r["speed"])
-            hc, hm = hd.h_central(0.5 * v), hd.h_min(0.5 * v)
+            cmp = hd.compare(v, float(r["h_central"]), float(r["h_min"]))
+            hc, hm = cmp["hd_h_central"], cmp["hd_h_min"]
             row = {
                 "load_N": load,
-                "speed": v,
                 "U_hd": hd.speed_parameter(0.5 * v),
                 "W_hd": hd.load_parameter,
-                "h_central": float(r["h_central"]),
-                "hd_h_central": hc,
-                "h_central_error": float(r["h_central"]) / hc - 1.0,
-                "h_min": float(r["h_min"]),
-                "hd_h_min": hm,
-                "h_min_error": float(r["h_min"]) / hm - 1.0,
+                **cmp,
                 "mu": float(r["mu"]),
                 "dofs": int(r["dofs"]),
                 "newton_iterations": int(r["newton_iterations"]),

@@ -30,6 +30,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
+from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters, sweep_scene
 from dolfinx_seal.scenes.common import hertz_point
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
@@ -49,18 +50,11 @@ def hamrock_dowson_rows(p: Any, rows: list[dict[str, Any]]) -> list[dict[str, An
     """h_central and h_min of the full-film points (fluid load > 99 %) against the
     Hamrock-Dowson regressions (u_m = U / 2)."""
     hd = IsoviscousElasticFilm(p.radius, p.material.E_star, p.film.viscosity, p.load)
-    out = []
-    for r in rows:
-        if float(r["fluid_load_fraction"]) < 0.99:
-            continue
-        u_m = 0.5 * float(r["speed"])
-        hc, hm = hd.h_central(u_m), hd.h_min(u_m)
-        out.append({
-            "speed": float(r["speed"]), "h_central": float(r["h_central"]), "hd_h_central": hc,
-            "h_central_error": float(r["h_central"]) / hc - 1.0, "h_min": float(r["h_min"]),
-            "hd_h_min": hm, "h_min_error": float(r["h_min"]) / hm - 1.0,
-        })  # fmt: skip
-    return out
+    return [
+        hd.compare(float(r["speed"]), float(r["h_central"]), float(r["h_min"]))
+        for r in rows
+        if float(r["fluid_load_fraction"]) >= 0.99
+    ]
 
 
 def run(
@@ -72,13 +66,9 @@ def run(
     """Run the sweep; returns the converged rows (also in ``out/sweep.csv``)."""
     p = parameters(elements_per_radius, **values)
     rows = sweep_scene("ball", p, out, "film.speed", list(speeds or SPEEDS))
-    hd = hamrock_dowson_rows(p, rows)
-    if COMM_WORLD.rank == 0 and hd:
-        keys = list(hd[0])
-        with (out / "hamrock_dowson.csv").open("w") as fh:
-            fh.write(",".join(keys) + "\n")
-            for r in hd:
-                fh.write(",".join(repr(r[k]) for k in keys) + "\n")
+    writer = SweepWriter(out, "hamrock_dowson.csv")
+    for r in hamrock_dowson_rows(p, rows):
+        writer.append(r)
     return rows
 
 

@@ -434,7 +434,7 @@ class SolidContactProblem:
                     )
                     pos, dpos = comm.bcast(mine, root=self._pos_root)
                 elif closure:
-                    pos = self._position_value()
+                    pos = self.counter_position()
                 dg = dpos - dx[ndofs]
             if max_gap_step and not closure:
                 dgap = np.abs(dg).max(initial=0.0)
@@ -451,13 +451,6 @@ class SolidContactProblem:
             return s
 
         return limit
-
-    def _position_value(self) -> float:
-        """The counter-surface position [m] (collective in force control)."""
-        if isinstance(self.position, dolfinx.fem.Constant):
-            return float(self.position.value)
-        a = self.position.x.array
-        return float(self.mesh.comm.allreduce(float(a[0]) if a.size else -np.inf, op=MPI.MAX))
 
     def _rigid_gap_limiter(self) -> Callable[[np.ndarray, np.ndarray], float]:
         """Pre-check for a rigid body under force control: one Newton step may change

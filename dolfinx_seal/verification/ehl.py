@@ -74,6 +74,20 @@ class IsoviscousElasticFilm:
         c = 7.43 * (1.0 - 0.85 * math.exp(-0.31 * k))
         return self.radius * c * self.speed_parameter(u_mean) ** 0.65 * self.load_parameter**-0.21
 
+    def compare(self, sliding_speed: float, h_central: float, h_min: float) -> dict[str, float]:
+        """A computed film against the regressions, for one surface sliding at
+        ``sliding_speed`` [m/s] over a fixed one (u_m = U / 2).
+
+        Returns ``speed``, ``h_central``, ``hd_h_central``, ``h_central_error``
+        (relative), ``h_min``, ``hd_h_min``, ``h_min_error`` (lengths in m)."""
+        u_m = 0.5 * sliding_speed
+        hc, hm = self.h_central(u_m), self.h_min(u_m)
+        return {
+            "speed": sliding_speed, "h_central": h_central, "hd_h_central": hc,
+            "h_central_error": h_central / hc - 1.0, "h_min": h_min, "hd_h_min": hm,
+            "h_min_error": h_min / hm - 1.0,
+        }  # fmt: skip
+
     def mean_speed_for_central(self, h_c: float) -> float:
         """The mean velocity u_m [m/s] at which the central film thickness is ``h_c`` [m]."""
         check_positive("h_c", h_c, "m")

@@ -14,6 +14,15 @@ from typing import Any
 import numpy as np
 
 
+def copy_coupled_state(src: Any, dst: Any) -> None:
+    """Copy the displacement, mixed pressure and fluid pressure of the coupled
+    problem ``src`` (any communicator) into ``dst`` (the same problem, e.g. built on
+    one rank with the counter held at ``src``'s position)."""
+    for i in range(2):  # displacement, mixed pressure
+        copy_by_coordinates(src.W.sub(i), src.w, dst.W.sub(i), dst.w)
+    copy_by_coordinates(src.film.S, src.film.P, dst.film.S, dst.film.P)
+
+
 def copy_by_coordinates(V_src: Any, f_src: Any, V_dst: Any, f_dst: Any, tol: float = 1e-12) -> None:
     """Copy the values of (sub-)space ``V_src`` of ``f_src`` (any communicator) into
     ``V_dst`` of ``f_dst`` by matching dof coordinates (collective on ``f_src``'s

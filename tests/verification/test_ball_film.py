@@ -14,7 +14,7 @@ from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
 from dolfinx_seal.scenes.ball import build_lubricated, start_lubricated
 from dolfinx_seal.scenes.common import hertz_point
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
-from dolfinx_seal.verification.parallel import copy_by_coordinates
+from dolfinx_seal.verification.parallel import copy_coupled_state
 
 A_H, P_H = hertz_point(1.3, 0.01, 1.2e6 / 0.75)  # S1 fig 18 ball: 1.83 mm, 0.186 MPa
 COARSE = {"h_contact": A_H / 8}  # ~36k unknowns; a sweep 0.3 -> 0.1 m/s takes about 1 min
@@ -64,9 +64,7 @@ def test_parallel_equals_serial_copy():
     par = lubricated_results(prob, symmetry_factor=2.0, nominal_area=info["nominal_area"])
     serial, _ = build_lubricated(p, comm=MPI.COMM_SELF, position=par["counter_position"])
     serial.set_fraction(1.0)
-    for i in range(2):  # displacement, mixed pressure
-        copy_by_coordinates(prob.W.sub(i), prob.w, serial.W.sub(i), serial.w)
-    copy_by_coordinates(prob.film.S, prob.film.P, serial.film.S, serial.film.P)
+    copy_coupled_state(prob, serial)
     its = serial.solver.solve(where="serial copy").newton_iterations
     assert its <= 2
     ser = lubricated_results(serial, symmetry_factor=2.0, nominal_area=info["nominal_area"])

@@ -17,7 +17,7 @@ from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.verification import slider
 from dolfinx_seal.verification.martin import martin_solution
-from dolfinx_seal.verification.parallel import copy_by_coordinates
+from dolfinx_seal.verification.parallel import copy_coupled_state
 
 COARSE = {"h_contact": 20e-6}
 
@@ -107,9 +107,7 @@ def test_parallel_equals_serial_copy(mpi_tmp_path):
     assert 0.5 < par["fluid_load_fraction"] < 1.0
     serial, _ = build_lubricated(p, comm=MPI.COMM_SELF, position=par["counter_position"])
     serial.set_fraction(1.0)
-    for i in range(2):  # displacement, mixed pressure
-        copy_by_coordinates(prob.W.sub(i), prob.w, serial.W.sub(i), serial.w)
-    copy_by_coordinates(prob.film.S, prob.film.P, serial.film.S, serial.film.P)
+    copy_coupled_state(prob, serial)
     its = serial.solver.solve(where="serial copy").newton_iterations
     assert its <= 2
     ser = lubricated_results(serial)
