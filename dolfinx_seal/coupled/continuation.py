@@ -37,6 +37,10 @@ class SpeedStepping:
         easy: Newton steps counted as easy.
         predictor: Start each step from the secant extrapolation (in log speed)
             of the last two converged states.
+        max_failures: Stop a sweep after this many consecutive targets not
+            reached (0: never); the remaining targets are recorded as not attempted.
+            Walking down into boundary lubrication, the next lower target fails
+            too and costs as much again.
     """
 
     max_decades: float = 0.5
@@ -44,12 +48,14 @@ class SpeedStepping:
     grow: float = 1.5
     easy: int = 8
     predictor: bool = True
+    max_failures: int = 0
 
     def __post_init__(self) -> None:
         check_range("max_decades", self.max_decades, 0.0, 3.0, lo_open=True)
         check_positive("min_decades", self.min_decades)
         check_range("grow", self.grow, 1.0, 4.0)
         check_int_range("easy", self.easy, 1)
+        check_int_range("max_failures", self.max_failures, 0)
 
 
 @dataclass
@@ -85,8 +91,16 @@ def speed_sweep(
     step = st.max_decades
     # the last two converged (log10 speed, state): a secant predictor in log speed
     history: list[tuple[float, list[Any]]] = [(math.log10(float(film.speed.value)), prob._state())]
-    for target in speeds:
+    failures = 0
+    for i, target in enumerate(speeds):
         check_positive("speed", target, "m/s")
+        if st.max_failures and failures >= st.max_failures:
+            note = f"not attempted: stopped after {failures} consecutive failed target(s)"
+            records += [
+                SweepRecord(speed=float(t), converged=False, error=note) for t in speeds[i:]
+            ]
+            log.error("sweep stopped at %.4g m/s: %s", float(film.speed.value), note)
+            break
         rec = SweepRecord(speed=float(target), converged=False)
         t0 = time.perf_counter()
         current = float(film.speed.value)
@@ -130,6 +144,7 @@ def speed_sweep(
                 step = min(step * st.grow, st.max_decades)
         rec.wall_time_s = time.perf_counter() - t0
         records.append(rec)
+        failures = 0 if rec.converged else failures + 1
         if rec.converged:
             res = results()
             res.update(

@@ -85,3 +85,30 @@ def test_order_and_bad_speed():
         speed_sweep(_Problem(1.0, (0, 0)), [-1.0], lambda v, r: None, dict)
     with pytest.raises(ParameterError, match="max_decades"):
         SpeedStepping(max_decades=0.0)
+
+
+def test_sweep_stops_after_consecutive_failures_and_keeps_its_points():
+    # walking down into an unreachable band: 1e-2 converges, 1e-3 and 1e-4 fail, 1e-5
+    # and 1e-6 are not attempted after max_failures = 2
+    prob = _Problem(1.0, bad=(1e-7, 5e-3))
+    done = []
+    calls = []
+    solve = prob.solver.solve
+
+    def counted(where: str = "") -> SolveHistory:
+        calls.append(prob.film.speed.value)
+        return solve(where)
+
+    prob.solver.solve = counted
+    targets = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
+    recs = speed_sweep(prob, targets, lambda v, r: done.append(v), dict,
+                       SpeedStepping(predictor=False, max_failures=2))  # fmt: skip
+    assert [r.converged for r in recs] == [True, False, False, False, False]
+    assert [r.speed for r in recs] == targets
+    assert done == [1e-2]
+    assert all("not attempted" in r.error for r in recs[3:])
+    assert min(calls) > 1e-5  # nothing below the second failed target was solved
+    # the last good (intermediate) state is kept
+    assert prob.state == [prob.film.speed.value] and 5e-3 < prob.state[0] < 1e-2
+    with pytest.raises(ParameterError, match="max_failures"):
+        SpeedStepping(max_failures=-1)
