@@ -179,7 +179,7 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
     """``film_map.csv`` and ``film_map.png`` of a 3D film (collective; files on rank 0).
 
     Maps over the current contact plane ``(x, y)`` of the fluid pressure, the
-    asperity pressure, the gap (log scale) and the cavitated zone (film
+    asperity pressure (left out for smooth surfaces), the gap (log scale) and the cavitated zone (film
     fraction for JFO, ``p = 0`` for the Reynolds condition).  A half model
     (``y >= 0``) is mirrored about ``y = 0``.  ``extent``: half-size of the
     plotted window [m] (default: the whole lubricated zone).
@@ -199,9 +199,12 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
     out.mkdir(parents=True, exist_ok=True)
     x, y = vals["x"][:, 0], vals["x"][:, 1]
     cav = _cavitated(film.params.cavitation, vals["p"], vals["theta"])
+    contact = prob.p_cont is not None  # smooth surfaces: no asperity column or panel
     cols = {"x_m": x, "y_m": y, "X_m": X[:, 0], "Y_m": X[:, 1], "p_fluid_Pa": vals["p"],
             "p_contact_Pa": pc, "gap_m": vals["gap"], "theta": vals["theta"],
             "cavitated": cav.astype(float)}  # fmt: skip
+    if not contact:
+        del cols["p_contact_Pa"]
     data = np.column_stack(list(cols.values()))
     np.savetxt(out / "film_map.csv", data, delimiter=",", header=",".join(cols), comments="")
     import matplotlib
@@ -219,7 +222,6 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
         return np.concatenate([v, v[off]]) if half else v
 
     tri = mtri.Triangulation(xs * 1e3, ys * 1e3)
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8.6))
     panels = [
         ("fluid pressure [MPa]", mirrored(vals["p"]) / 1e6, "viridis", False),
         ("asperity pressure [MPa]", mirrored(pc) / 1e6, "magma", False),
@@ -231,6 +233,11 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
             True,
         ),
     ]  # fmt: skip
+    if not contact:
+        del panels[1]
+    fig, axes = (
+        plt.subplots(2, 2, figsize=(10, 8.6)) if contact else plt.subplots(1, 3, figsize=(14, 4.6))
+    )
     for ax, (label, v, cmap, bounded) in zip(axes.flat, panels, strict=True):
         levels = np.linspace(0.0, 1.0, 11) if bounded else 24
         cs = ax.tricontourf(tri, v, levels=levels, cmap=cmap)

@@ -261,8 +261,9 @@ def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[
 
 def _title(params: BallParameters) -> str:
     f = params.film
-    return (f"ball F = {params.load:g} N, U = {f.speed:.3g} m/s, "
-            f"h_rms = {params.roughness.h_rms * 1e6:g} um, {f.cavitation}")  # fmt: skip
+    rough = (f"h_rms = {params.roughness.h_rms * 1e6:g} um" if params.contact.model != "none"
+             else "smooth")  # fmt: skip
+    return f"ball F = {params.load:g} N, U = {f.speed:.3g} m/s, {rough}, {f.cavitation}"
 
 
 def _write_point(out: Path, prob: SolidContactProblem, params: BallParameters) -> None:
