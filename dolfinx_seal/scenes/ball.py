@@ -117,9 +117,11 @@ class BallParameters:
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
         if not self.lubricated and self.contact.model == "none":
             raise ParameterError("contact.model = 'none' needs lubricated = true")
-        if self.lubricated and self.film.speed == 0.0 and self.contact.model == "none":
+        if self.lubricated and self.film.speed == 0.0:
             raise ParameterError(
-                "film.speed = 0 with contact.model = 'none': nothing would carry the load"
+                "film.speed = 0 m/s: the lubricated ball needs film.speed > 0 (it starts from "
+                "a full film and walks down in speed; at zero speed the film carries nothing, "
+                "so run the dry contact, lubricated = false)"
             )
         if a > 0.4 * self.radius:
             raise ParameterError(

@@ -112,3 +112,26 @@ def test_smooth_full_film_follows_hamrock_dowson(mpi_tmp_path):
         assert r["mass_balance_error"] < 1e-8 and r["load_balance_error"] < 1e-9
     exponent = np.log(rows[0]["h_central"] / rows[1]["h_central"]) / np.log(3.0)
     assert exponent == pytest.approx(0.64, abs=0.05)
+
+
+def test_zero_speed_is_refused_with_the_way_out():
+    from dolfinx_seal.errors import ParameterError
+
+    with pytest.raises(ParameterError, match=r"film.speed = 0 .*lubricated = false"):
+        make_parameters("ball", values={"film": {"speed": 0.0}})
+
+
+def test_s1_appendix_d_scene_file_is_the_stated_system():
+    """The scene file of S1 appendix D (figs D.3-D.4): E* = 5.45 MPa, R = 0.95 cm,
+    F = 3 N, eta U = 1 Pa m, smooth, lubricated cap covering [-4 a_H, 1.5 a_H]."""
+    from pathlib import Path
+
+    import dolfinx_seal
+
+    toml = Path(dolfinx_seal.__file__).parent / "scenes" / "ball-s1-appendix-d.toml"
+    p = make_parameters("ball", scene_file=toml)
+    a_h, _ = hertz_point(p.load, p.radius, p.material.E_star)
+    assert p.material.E_star == pytest.approx(5.45e6, rel=1e-12)
+    assert (p.radius, p.load, p.contact.model) == (0.0095, 3.0, "none")
+    assert p.film.viscosity * p.film.speed == pytest.approx(1.0, rel=1e-12)
+    assert p.film_extent >= 4.0 and p.h_contact == pytest.approx(a_h / 20, rel=2e-3)
