@@ -107,6 +107,8 @@ def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
             ax1.loglog(ev[y > 0], y[y > 0], st, ms=3, label=k)
     ax1.set_xlabel("eta v [Pa m]")
     ax1.set_ylabel("friction coefficient")
+    # parts far below the total (asperity friction in full film, 1e-11) would hide mu
+    ax1.set_ylim(bottom=1e-2 * min(float(r["mu"]) for r in rows))
     ax1.legend(frameon=False, fontsize=8)
     ax2.semilogx(ev, [float(r["fluid_load_fraction"]) for r in rows], "bo-", ms=3, label="fluid")
     ax2.semilogx(
@@ -126,4 +128,20 @@ def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
     plt.close(fig)
 
 
-__all__ = ["SweepHooks", "lubricated_sweep", "plot_sweep"]
+def stribeck_minimum(eta_v: Any, mu: Any) -> tuple[float, float, bool]:
+    """(eta v, mu) of the minimum of a sampled Stribeck curve and whether it is
+    bracketed (a neighbour on each side): the vertex of the parabola in
+    (log eta v, log mu) through the smallest sample and its neighbours, else the
+    smallest sample itself."""
+    ev, m = np.asarray(eta_v, dtype=float), np.asarray(mu, dtype=float)
+    order = np.argsort(ev)
+    x, y = np.log10(ev[order]), np.log10(m[order])
+    i = int(np.argmin(y))
+    if i == 0 or i == len(x) - 1:
+        return float(ev[order][i]), float(m[order][i]), False
+    c2, c1, c0 = np.polyfit(x[i - 1 : i + 2], y[i - 1 : i + 2], 2)
+    xv = -c1 / (2.0 * c2)
+    return float(10**xv), float(10 ** (c0 + c1 * xv + c2 * xv * xv)), True
+
+
+__all__ = ["SweepHooks", "lubricated_sweep", "plot_sweep", "stribeck_minimum"]
