@@ -239,7 +239,9 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
         plt.subplots(2, 2, figsize=(10, 8.6)) if contact else plt.subplots(1, 3, figsize=(14, 4.6))
     )
     for ax, (label, v, cmap, bounded) in zip(axes.flat, panels, strict=True):
-        levels = np.linspace(0.0, 1.0, 11) if bounded else 24
+        # fields in [0, 1]: the levels straddle both ends, else contourf leaves the
+        # nodes at exactly 1 (cavitated, or full film) unfilled (white)
+        levels = np.linspace(-0.05, 1.05, 12) if bounded else 24
         cs = ax.tricontourf(tri, v, levels=levels, cmap=cmap)
         fig.colorbar(cs, ax=ax, shrink=0.85)
         ax.set_title(label, fontsize=10)
