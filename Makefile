@@ -29,6 +29,9 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/cylinder_newton_vs_mesh.py
 	$(DX) python3 bench/ball_similar_meshes.py
 	$(DX) python3 bench/ball_hamrock_dowson.py
+	$(DX) python3 bench/ball_stribeck_roughness.py
+	$(DX) python3 bench/ball_low_speed.py
+	$(DX) python3 bench/ball_extremes.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"
