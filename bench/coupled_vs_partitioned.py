@@ -2,8 +2,9 @@
 
 One run, one mesh (the S1 figure-4 cylinder, ``--h-contact``), three speeds
 (boundary, mixed, hydrodynamic lubrication).  At each speed both schemes start
-from the same state: the converged solution at a speed half a decade lower
-(a sweep step).  Measured: wall time and iterations of
+from the same state, the one a Stribeck sweep step starts from: the secant
+predictor (in log speed) from the converged solutions one and half a decade lower
+(``--no-predictor``: the solution half a decade lower).  Measured: wall time and iterations of
 
 * the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``);
 * the partitioned scheme (:mod:`dolfinx_seal.coupled.partitioned`) at the
@@ -20,6 +21,7 @@ Run:  scripts/dx python3 bench/coupled_vs_partitioned.py [--out bench/results]
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -28,6 +30,7 @@ import ufl
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.coupled.continuation import secant_predictor
 from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.errors import SolverError
@@ -71,6 +74,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--tol", type=float, default=1e-6)
     parser.add_argument("--budget", type=float, default=300.0, help="seconds per partitioned run")
     parser.add_argument("--out", default="bench/results")
+    parser.add_argument("--no-predictor", dest="predictor", action="store_false",
+                        help="start both schemes from the lower point, not the secant predictor")  # fmt: skip
     args = parser.parse_args(argv)
     out = bcast_path(args.out)
     w = SweepWriter(out, "coupled_vs_partitioned.csv")
@@ -84,8 +89,15 @@ def main(argv: list[str] | None = None) -> None:
            "x linear solve | x monolithic | mu rel. diff | converged |")  # fmt: skip
     print0("|---|---|---|---|---|---|---|---|---|---|")
     for v in args.speeds:
-        prob.film.set_speed(v / 10**0.5)
-        prob.solver.solve(where="bench start")
+        # the two converged points a sweep would hold: 1 and 1/2 decade below
+        history = []
+        for lower in (10.0, 10**0.5):
+            prob.film.set_speed(v / lower)
+            prob.solver.solve(where="bench start")
+            history.append((math.log10(v / lower), prob._state()))
+        prob.film.set_speed(v)
+        if args.predictor:  # the sweep's secant predictor (continuation.speed_sweep)
+            secant_predictor(prob, history, v)
         start = prob._state()
         rows = []
         mono = {}

@@ -113,13 +113,7 @@ def speed_sweep(
             saved = prob._state()
             film.set_speed(s_try)
             if st.predictor and len(history) == 2:
-                (la, sa), (lb, sb) = history
-                r = (math.log10(s_try) - lb) / (lb - la)
-                pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
-                closure = getattr(prob, "max_gap_closure", None)
-                if closure:
-                    pred = _safeguard_predictor(prob, saved, pred, closure)
-                prob._restore(pred)
+                secant_predictor(prob, history, s_try)
             try:
                 hist = prob.solver.solve(where=f"{prob.name} at speed {s_try:.4g} m/s")
             except SolverError as e:
@@ -158,6 +152,20 @@ def speed_sweep(
             log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
                       target, rec.error, float(film.speed.value))  # fmt: skip
     return records
+
+
+def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float) -> None:
+    """Set ``prob``'s state to the secant extrapolation, in log10 speed, of the two
+    converged ``(log10 speed, state)`` in ``history`` to ``speed`` [m/s] (the current
+    state is the last of them).  With a Newton gap-closure rule on the problem the
+    predictor is shortened to obey it (:func:`_safeguard_predictor`)."""
+    (la, sa), (lb, sb) = history
+    r = (math.log10(speed) - lb) / (lb - la)
+    pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
+    closure = getattr(prob, "max_gap_closure", None)
+    if closure:
+        pred = _safeguard_predictor(prob, prob._state(), pred, closure)
+    prob._restore(pred)
 
 
 def _safeguard_predictor(
@@ -364,6 +372,7 @@ __all__ = [
     "film_presolve",
     "order_speeds",
     "reynolds_presolve",
+    "secant_predictor",
     "speed_sweep",
     "start_coupled",
 ]
