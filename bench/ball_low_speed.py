@@ -76,7 +76,8 @@ def main(argv: list[str] | None = None) -> None:
     import matplotlib.pyplot as plt
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
-    for r in rows:
+    colours = plt.cm.viridis(np.linspace(0.0, 0.92, max(len(rows), 1)))
+    for r, colour in zip(rows, colours, strict=True):
         v = float(r["speed"])
         m = _map(out / "sweep" / f"speed_{v:.3e}" / "film_map.csv")
         X, Y = m["X_m"], m["Y_m"]
@@ -103,8 +104,8 @@ def main(argv: list[str] | None = None) -> None:
                f"| {row['max_total_over_pH']:.3f} | {row['max_fluid_over_pH']:.3f} |")  # fmt: skip
         axis = np.abs(Y) < 1e-9 * a_h
         o = np.argsort(X[axis])
-        (line,) = ax1.plot(X[axis][o] / a_h, total[axis][o] / p_h, lw=1.2, label=f"{v:g} m/s")
-        ax2.plot(X[axis][o] / a_h, m["p_fluid_Pa"][axis][o] / p_h, lw=1.2, color=line.get_color())
+        ax1.plot(X[axis][o] / a_h, total[axis][o] / p_h, lw=1.2, color=colour, label=f"{v:g} m/s")
+        ax2.plot(X[axis][o] / a_h, m["p_fluid_Pa"][axis][o] / p_h, lw=1.2, color=colour)
     xs = np.linspace(-1.5, 1.5, 301)
     for ax in (ax1, ax2):
         ax.plot(xs, np.sqrt(np.clip(1 - xs**2, 0, None)), "k--", lw=1, label="Hertz")
