@@ -281,8 +281,10 @@ class SurfaceFilm:
         self.U_m = 0.5 * self.speed * self.t  # projected mean velocity [m/s]
 
         # row weight: flux residual [m^2/s] -> nodal force scale [N/m]
+        u_ref = max(pr.speed, 1e-300)
+        q_ref = sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length) + 0.5 * u_ref * sc.gap
+        self.row_weight = dolfinx.fem.Constant(mesh, sc.pressure * sc.element / q_ref)
         self._q_ref_parts = (sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length), sc.gap)
-        self.row_weight = dolfinx.fem.Constant(mesh, self._row_weight(pr.speed))
 
         if self.has_theta:
             # a space of its own: blocked assembly matches Dirichlet conditions to
@@ -428,20 +430,10 @@ class SurfaceFilm:
             )
         check_range("film.speed", speed, 0.0, 1e3, lo_open=True, unit="m/s")
         self.speed.value = float(speed)
-        self.row_weight.value = self._row_weight(speed)
-
-    def _row_weight(self, speed: float) -> float:
-        """Weight [N s/m^3] of the Reynolds rows: nodal force scale / flux scale.
-
-        The flux scale is the Couette flux ``U h_scale / 2`` when the film is
-        sheared (``U > 0``), else the Poiseuille flux over ``h_scale`` under the
-        pressure scale.  A Poiseuille term at h_scale = h_rms in a sheared film's
-        scale under-weighted the rows at low speed, where the film is a fraction of
-        h_rms: the rough ball at 1e-6 m/s converged with a mass imbalance of 2e-3
-        of its inflow."""
         poi, gap = self._q_ref_parts
-        q_ref = 0.5 * speed * gap if speed > 0.0 else poi
-        return self.scales.pressure * self.scales.element / q_ref
+        self.row_weight.value = (
+            self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
+        )
 
     def set_pressure(self, pressure: Any) -> None:
         """Set the fluid pressure to a UFL expression [Pa] on the free film dofs
