@@ -144,12 +144,10 @@ def main(argv: list[str] | None = None) -> None:
         row = run_case(name, args.elements_per_radius, out)
         w.append(row)
         print0(
-            f"| {name} | {row.get('E_star_Pa', math.nan) / 1e6:.3g} "
-            f"| {row.get('h_rms_m', math.nan) * 1e6:.3g} | {row['outcome']} "
-            f"| {row.get('converged_speeds', '')} | {row.get('mu', '')} "
-            f"| {row.get('fluid_load_fraction', '')} | {row.get('first_failure', math.nan):g} "
-            f"| {str(row.get('failure_error', row.get('error', '')))[:160]} "
-            f"| {row['wall_time_s']:.0f} |"
+            f"| {name} | {_g(row['E_star_Pa'], 1e-6)} | {_g(row['h_rms_m'], 1e6)} "
+            f"| {row['outcome']} | {row['converged_speeds']} | {row['mu']} "
+            f"| {row['fluid_load_fraction']} | {_g(row['first_failure'], 1.0)} "
+            f"| {str(row['error'])[:200]} | {float(row['wall_time_s'] or 0.0):.0f} |"
         )
 
 
