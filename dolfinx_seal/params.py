@@ -163,10 +163,13 @@ def _coerce(name: str, tp: Any, value: Any) -> Any:
     return value
 
 
-def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "") -> T:
+def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: Any = None) -> T:
     """Build dataclass ``cls`` from a (nested) mapping; unknown keys are an error.
 
-    Nested dataclass fields take nested mappings (TOML tables).
+    Nested dataclass fields take nested mappings (TOML tables).  A nested table
+    changes only the keys it names: the others keep the enclosing class's default
+    for that field (e.g. the ball's ``film.speed = 0.01`` survives
+    ``--set film.viscosity=0.05``), or those of ``base`` when given.
     """
     types_ = _field_types(cls)
     kwargs: dict[str, Any] = {}
@@ -180,10 +183,21 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "") -> T:
         if _is_dataclass_type(tp):
             if not isinstance(value, Mapping):
                 raise ParameterError(f"{full} must be a table of parameters, got {value!r}")
-            kwargs[key] = from_mapping(tp, value, prefix=f"{full}.")
+            inner = getattr(base, key) if base is not None else _field_default(cls, key)
+            kwargs[key] = from_mapping(tp, value, prefix=f"{full}.", base=inner)
         else:
             kwargs[key] = _coerce(full, tp, value)
+    if base is not None:
+        return dataclasses.replace(base, **kwargs)
     return cls(**kwargs)
+
+
+def _field_default(cls: type, name: str) -> Any:
+    """The default value of field ``name`` of ``cls`` (None if it has none)."""
+    f = {f.name: f for f in dataclasses.fields(cls)}[name]
+    if f.default_factory is not dataclasses.MISSING:
+        return f.default_factory()
+    return None if f.default is dataclasses.MISSING else f.default
 
 
 def to_dict(obj: Any) -> dict[str, Any]:

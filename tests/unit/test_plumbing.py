@@ -66,6 +66,16 @@ def test_overrides_merge_over_file_values():
     }
 
 
+def test_a_nested_table_keeps_the_scene_defaults_it_does_not_name():
+    # the ball's film default is FilmParams(speed=0.01), not FilmParams()'s speed 0
+    from dolfinx_seal.scenes import make_parameters
+
+    p = make_parameters("ball", overrides=["film.viscosity=0.05"])
+    assert p.film.viscosity == 0.05 and p.film.speed == 0.01
+    p = make_parameters("ball", values={"film": {"asperity_shear": 0.0}})
+    assert p.film.asperity_shear == 0.0 and p.film.speed == 0.01
+
+
 def test_parse_values():
     assert parse_values("1,2,3") == [1.0, 2.0, 3.0]
     v = parse_values("1e-3:1e1:5:log")
