@@ -179,8 +179,8 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
     """``film_map.csv`` and ``film_map.png`` of a 3D film (collective; files on rank 0).
 
     Maps over the current contact plane ``(x, y)`` of the fluid pressure, the
-    asperity pressure (left out for smooth surfaces), the gap (log scale) and the cavitated zone (film
-    fraction for JFO, ``p = 0`` for the Reynolds condition).  A half model
+    asperity pressure (left out for smooth surfaces), the gap (log scale) and
+    the cavitated zone (film fraction for JFO, ``p = 0`` for the Reynolds condition).  A half model
     (``y >= 0``) is mirrored about ``y = 0``.  ``extent``: half-size of the
     plotted window [m] (default: the whole lubricated zone).
     """

@@ -74,6 +74,7 @@ from dolfinx_seal.solid.asperity import area_fraction
 
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
 FLOW_FACTORS = ("none", "patir-cheng", "persson")
+ACTIVE_TOLERANCE = 1e-8  # scaled pressure at or below which a film node is on its bound (PETSc VI)
 
 
 @dataclass(frozen=True)
@@ -569,8 +570,6 @@ class SurfaceFilm:
         inflow = comm.allreduce(float(np.abs(r[edge]).sum()), op=MPI.SUM) / 2.0
         return interior / inflow if inflow > 0 else 0.0
 
-
-ACTIVE_TOLERANCE = 1e-8  # scaled pressure at or below which a film node is on its bound (PETSc VI)
 
 __all__ = [
     "CAVITATION_MODELS",
