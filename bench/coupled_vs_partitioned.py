@@ -6,7 +6,9 @@ from the same state, the one a Stribeck sweep step starts from: the secant
 predictor (in log speed) from the converged solutions one and half a decade lower
 (``--no-predictor``: the solution half a decade lower).  Measured: wall time and iterations of
 
-* the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``);
+* the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``), preceded, as in
+  a sweep, by the film-only solve on the predicted shape (``stepping.film_presolve``;
+  its time is counted, its steps are reported apart; ``--no-film-presolve``: without);
 * the partitioned scheme (:mod:`dolfinx_seal.coupled.partitioned`) at the
   seeds' relaxation factors (0.01, 0.03, 0.1) and at larger ones, stopped at a
   relative fluid-pressure change of ``--tol`` or after ``--budget`` seconds;
@@ -30,7 +32,7 @@ import ufl
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from dolfinx_seal.coupled.continuation import secant_predictor
+from dolfinx_seal.coupled.continuation import FilmPresolver, secant_predictor
 from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.errors import SolverError
@@ -76,6 +78,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", default="bench/results")
     parser.add_argument("--no-predictor", dest="predictor", action="store_false",
                         help="start both schemes from the lower point, not the secant predictor")  # fmt: skip
+    parser.add_argument("--no-film-presolve", dest="film_presolve", action="store_false",
+                        help="monolithic Newton without the film-only solve before it")  # fmt: skip
     args = parser.parse_args(argv)
     out = bcast_path(args.out)
     w = SweepWriter(out, "coupled_vs_partitioned.csv")
@@ -85,6 +89,7 @@ def main(argv: list[str] | None = None) -> None:
     start_lubricated(prob, p0)
     t_lin = linear_elastic_solve_time(prob, p0)
     print0(f"dofs {prob.dof_counts()}; one linear-elastic solve: {t_lin:.3f} s")
+    presolver = FilmPresolver(prob) if args.film_presolve else None
     print0("| speed [m/s] | scheme | relaxation | iterations | Newton steps | wall time [s] | "
            "x linear solve | x monolithic | mu rel. diff | converged |")  # fmt: skip
     print0("|---|---|---|---|---|---|---|---|---|---|")
@@ -106,6 +111,7 @@ def main(argv: list[str] | None = None) -> None:
             prob.solver.set_snes_type(snes_type)
             prob.film.set_speed(v)
             t0 = time.perf_counter()
+            film_its = presolver.solve(f"bench {snes_type}") if presolver else 0
             try:
                 its = prob.solver.solve(where=f"bench {snes_type}").newton_iterations
                 ok = True
@@ -114,7 +120,8 @@ def main(argv: list[str] | None = None) -> None:
             t = time.perf_counter() - t0
             mono[snes_type] = (t, lubricated_results(prob)["mu"] if ok else float("nan"))
             rows.append(dict(speed=v, scheme=f"monolithic {snes_type}", relaxation=float("nan"),
-                             iterations=1, newton=its, time=t, converged=ok))  # fmt: skip
+                             iterations=1, newton=its, film_newton=film_its, time=t,
+                             converged=ok))  # fmt: skip
         prob.solver.set_snes_type("vinewtonrsls")
         t_ref, mu_ref = mono["vinewtonrsls"]
         for om in args.relaxations:
@@ -144,14 +151,18 @@ def main(argv: list[str] | None = None) -> None:
             r["mu_rel_diff"] = abs(r.get("mu", mu_ref) / mu_ref - 1.0)
             r["linear_solve_s"] = t_lin
             w.append({k: r.get(k, float("nan")) for k in (
-                "speed", "scheme", "relaxation", "iterations", "newton", "time", "x_linear",
+                "speed", "scheme", "relaxation", "iterations", "newton", "film_newton", "time",
+                "x_linear",
                 "x_monolithic", "mu_rel_diff", "converged", "linear_solve_s")})  # fmt: skip
+            film = f" (+{r['film_newton']} film)" if "film_newton" in r else ""
             print0(f"| {v:.0e} | {r['scheme']} | {r['relaxation']:.2g} | {r['iterations']} | "
-                   f"{r['newton']} | {r['time']:.2f} | {r['x_linear']:.1f} | {r['x_monolithic']:.1f} | "
+                   f"{r['newton']}{film} | {r['time']:.2f} | {r['x_linear']:.1f} | {r['x_monolithic']:.1f} | "
                    f"{r['mu_rel_diff']:.1e} | {r['converged']} |")  # fmt: skip
         prob._restore(start)
         prob.film.set_speed(v)
         prob.solver.solve(where="bench continue")
+    if presolver is not None:
+        presolver.destroy()
 
 
 if __name__ == "__main__":

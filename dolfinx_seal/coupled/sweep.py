@@ -77,6 +77,7 @@ def lubricated_sweep(
     start = hooks.start(prob, p0)
     r0 = results()
     r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
+              film_presolve_iterations=start.get("film_presolve_iterations", 0),
               wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
     point(speeds[0], r0)
     recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)

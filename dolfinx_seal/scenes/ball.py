@@ -85,7 +85,8 @@ class BallParameters:
         sweep_order: Order of a speed sweep: ``down`` (default: the sweep starts in
             full film, where the hydrodynamic start is robust), ``up``, ``up-down``
             or ``given``.
-        stepping: Speed continuation options of sweeps.
+        stepping: Speed continuation options of sweeps (``film_presolve`` off: the
+            ball's figures were measured without it).
     """
 
     radius: float = 0.01
@@ -101,7 +102,7 @@ class BallParameters:
     film: FilmParams = field(default_factory=lambda: FilmParams(speed=0.01))
     film_extent: float = 3.0
     sweep_order: str = "down"
-    stepping: SpeedStepping = field(default_factory=SpeedStepping)
+    stepping: SpeedStepping = field(default_factory=lambda: SpeedStepping(film_presolve=False))
 
     def __post_init__(self) -> None:
         check_positive("radius", self.radius, "m")

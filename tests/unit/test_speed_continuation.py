@@ -63,7 +63,7 @@ def test_unreachable_target_is_recorded_and_the_sweep_goes_on():
     prob = _Problem(1e-4, bad=(0.9e-2, 1.1e-2))
     done = []
     recs = speed_sweep(prob, [1e-3, 1e-2, 1e-1], lambda v, r: done.append(v), lambda: {},
-                       SpeedStepping(predictor=False))  # fmt: skip
+                       SpeedStepping(predictor=False, film_presolve=False))  # fmt: skip
     assert [r.converged for r in recs] == [True, False, True]
     assert done == [1e-3, 1e-1]  # the finished points, in order
     assert "diverged" in recs[1].error
@@ -72,7 +72,13 @@ def test_unreachable_target_is_recorded_and_the_sweep_goes_on():
 
 def test_large_jumps_are_cut_into_steps():
     prob = _Problem(1e-6, bad=(1.0, 1.0), max_jump=0.3)
-    recs = speed_sweep(prob, [1e-2], lambda v, r: None, lambda: {}, SpeedStepping(predictor=False))
+    recs = speed_sweep(
+        prob,
+        [1e-2],
+        lambda v, r: None,
+        lambda: {},
+        SpeedStepping(predictor=False, film_presolve=False),
+    )
     assert recs[0].converged and recs[0].steps >= math.ceil(4 / 0.3)  # <= 0.3 decades a step
     assert all(0 < s < 1e-2 for s in recs[0].intermediate)
 
@@ -102,7 +108,7 @@ def test_sweep_stops_after_consecutive_failures_and_keeps_its_points():
     prob.solver.solve = counted
     targets = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
     recs = speed_sweep(prob, targets, lambda v, r: done.append(v), dict,
-                       SpeedStepping(predictor=False, max_failures=2))  # fmt: skip
+                       SpeedStepping(predictor=False, max_failures=2, film_presolve=False))  # fmt: skip
     assert [r.converged for r in recs] == [True, False, False, False, False]
     assert [r.speed for r in recs] == targets
     assert done == [1e-2]

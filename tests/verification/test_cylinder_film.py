@@ -175,6 +175,27 @@ def test_short_stribeck_sweep_keeps_every_point(mpi_tmp_path):
         assert (mpi_tmp_path / "sweep.png").stat().st_size > 1000
 
 
+def test_film_presolve_changes_the_path_not_the_answer(mpi_tmp_path):
+    """The film-only solve on the predicted shape before each coupled step
+    (``stepping.film_presolve``) moves the cavitation front, which the
+    reduced-space VI frees one node per Newton step: the same sweep without it
+    needs more coupled steps (measured at 10 um: 18 against 34 coupled steps in the
+    four half-decade steps from 0.03 to 1 m/s), and both end on the same solution."""
+    speeds = [0.03, 1.0]
+    out = {}
+    for pre in (True, False):
+        p = make_parameters("cylinder", values={"stepping": {"film_presolve": pre}})
+        rows = sweep_scene("cylinder", p, mpi_tmp_path / str(pre), "film.speed", speeds)
+        assert len(rows) == 2
+        out[pre] = rows
+    for k in ("mu", "h_min", "fluid_load_fraction", "x_cavitation"):
+        for a, b in zip(out[True], out[False], strict=True):
+            assert a[k] == pytest.approx(b[k], rel=1e-7), k
+    with_pre = out[True][1]
+    assert with_pre["film_presolve_iterations"] > 0
+    assert with_pre["newton_iterations"] < out[False][1]["newton_iterations"]
+
+
 def test_jfo_equals_the_reynolds_condition_without_reformation():
     """A flooded convergent-divergent contact has no reformation front, so the
     mass-conserving JFO pressure is the Reynolds-condition pressure (same load
