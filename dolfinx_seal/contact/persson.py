@@ -224,6 +224,7 @@ class PerssonLaw(_AreaMixin, ContactLaw):
         law = ClosedFormPersson(self.alpha, self.beta, m, c, a, b, self.e_star, self.h_rms)
         law.max_rel_error = float(np.max(np.abs(np.expm1(resid(sol.x)))))
         law.window = (u_min * self.h_rms, 12.0 * self.h_rms)
+        law.rms_slope = self.rms_slope
         return law
 
     def summary(self) -> dict[str, float]:
@@ -326,6 +327,8 @@ class ClosedFormPersson(ContactLaw):
         h_rms: [m].
         max_rel_error: Max ``|p_cf/p - 1|`` over ``window`` (set by the fit).
         window: ``(u_lo, u_hi)`` [m] of the fit.
+        rms_slope: ``<|grad h|^2>^{1/2}`` of the roughness [-], for
+            :meth:`area_fraction` (nan: no contact-area relation).
     """
 
     alpha: float
@@ -339,6 +342,15 @@ class ClosedFormPersson(ContactLaw):
     max_rel_error: float = float("nan")
     window: tuple[float, float] = (float("nan"), float("nan"))
     name: str = "persson-closed-form"
+    rms_slope: float = float("nan")
+
+    def area_fraction(self, p: ArrayLike) -> FloatArray:
+        """``A/A0 = erf(sqrt 2 p / (E* slope))`` at nominal pressure ``p >= 0`` [Pa],
+        the relation the FEM forms use (:func:`~dolfinx_seal.solid.asperity.area_fraction`)."""
+        if not (math.isfinite(self.rms_slope) and self.rms_slope > 0):
+            return super().area_fraction(p)
+        pa = as_array("p", p, 0.0, lo_open=False)
+        return erf(math.sqrt(2.0) * pa / (self.e_star * self.rms_slope))
 
     def formula(
         self, u: Any, exp: Callable[[Any], Any] = np.exp, ln: Callable[[Any], Any] = np.log

@@ -103,7 +103,6 @@ class ContactLawParams:
             "beta": full.beta,
             "closed_form_max_rel_error": cf.max_rel_error,
         }
-        cf.rms_slope = full.rms_slope  # for the real contact area
         cf.full = full  # the tabulated relation (inverse for warm starts)
         return cf, info
 

@@ -11,6 +11,7 @@ from scipy.special import erf, erfc, gamma
 
 from dolfinx_seal.contact import (
     BushGibsonThomas,
+    ClosedFormPersson,
     GreenwoodTripp,
     GreenwoodWilliamson,
     PerssonExponentialLaw,
@@ -95,6 +96,17 @@ def test_closed_form_error_bound_and_monotone(law):
     # any exp/ln (here the math module's) builds the same expression (UFL-friendly)
     one = cf.formula(2e-7, exp=math.exp, ln=math.log)
     assert one == pytest.approx(float(cf.pressure(np.array([2e-7]))[0]), rel=1e-14)
+
+
+def test_closed_form_carries_the_contact_area_of_its_full_law(law):
+    # the closed form (the law in the FEM forms) has the erf area of the full law
+    cf = law.closed_form()
+    assert cf.rms_slope == law.rms_slope
+    p = np.array([0.0, 1e3, 1e5, 1e7])
+    np.testing.assert_allclose(cf.area_fraction(p), law.area_fraction(p), rtol=1e-15)
+    bare = ClosedFormPersson(cf.alpha, cf.beta, cf.m, cf.c, cf.a, cf.b, cf.e_star, cf.h_rms)
+    with pytest.raises(ParameterError, match="contact-area relation"):
+        bare.area_fraction(p)
 
 
 def test_area_fraction_small_load_slope(law):
