@@ -27,6 +27,7 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/reynolds_scaling.py
 	$(DX) python3 bench/coupled_vs_partitioned.py
 	$(DX) python3 bench/cylinder_newton_vs_mesh.py
+	$(DX) python3 bench/cylinder_half_space_reference.py
 	$(DX) python3 bench/ball_similar_meshes.py
 	$(DX) python3 bench/ball_hamrock_dowson.py
 	$(DX) python3 bench/ball_stribeck_roughness.py
