@@ -103,6 +103,9 @@ def main(argv: list[str] | None = None) -> None:
                     diff[q] = max(diff[q], abs(row[f"{q}_fem"] / row[f"{q}_ref"] - 1.0))
                 w.append(row)
             curves[(name, cav)] = (rows, refs)
+            if len(pairs) < 3:  # the FEM sweep stopped early (see its sweep_failures.csv)
+                print0(f"| {name} | {cav} | {len(pairs)} | FEM sweep incomplete | | | | |")
+                continue
             ev = [float(f["eta_v"]) for f, _ in pairs]
             mf = stribeck_minimum(ev, [float(f["mu"]) for f, _ in pairs])
             mr = stribeck_minimum(ev, [r.mu for _, r in pairs])

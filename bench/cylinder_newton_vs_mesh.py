@@ -38,7 +38,7 @@ def main(argv: list[str] | None = None) -> None:
     print0(
         f"ranks: {COMM_WORLD.size}; speeds {speeds[0]:g}..{speeds[-1]:g} m/s, {len(speeds)} points"
     )
-    print0("| contact element | unknowns | first point Newton | Newton per step min / median / max "
+    print0("| contact element | unknowns | first point Newton (+ film) | Newton per step min / median / max "
            "| film presolve per step min / median / max | wall time per point [s] "
            "| mu at 1e-2 m/s |")  # fmt: skip
     print0("|---:|---:|---:|---|---|---:|---:|")
@@ -57,13 +57,14 @@ def main(argv: list[str] | None = None) -> None:
         mu = {round(float(r["speed"]), 12): float(r["mu"]) for r in rows}
         row = {
             "h_contact": h, "dofs": int(rows[0]["dofs"]), "points": len(rows),
-            "first_newton": int(rows[0]["newton_iterations"]), "newton_min": min(per),
+            "first_newton": int(rows[0]["newton_iterations"]),
+            "first_film": int(rows[0].get("film_presolve_iterations") or 0), "newton_min": min(per),
             "newton_median": statistics.median(per), "newton_max": max(per),
             "presolve_min": min(pre), "presolve_median": statistics.median(pre),
             "presolve_max": max(pre), "median_point_time_s": t, "mu_1e-2": mu.get(0.01, float("nan")),
         }  # fmt: skip
         w.append(row)
-        print0(f"| {h * 1e6:g} um | {row['dofs']} | {row['first_newton']} | {min(per):.1f} / "
+        print0(f"| {h * 1e6:g} um | {row['dofs']} | {row['first_newton']} (+{row['first_film']}) | {min(per):.1f} / "
                f"{statistics.median(per):.1f} / {max(per):.1f} | {min(pre):.1f} / "
                f"{statistics.median(pre):.1f} / {max(pre):.1f} | {t:.2f} | {row['mu_1e-2']:.5f} |")  # fmt: skip
 

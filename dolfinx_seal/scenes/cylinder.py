@@ -179,7 +179,8 @@ def build_lubricated(
         target=params.load if position is None else position,
         position0=0.0 if position is None else (position if position0 is None else position0),
         degree=params.degree, snes=snes, name="cylinder",
-        max_step=0.5 * params.h_contact if params.bulk else None, film=film, bulk=params.bulk,
+        max_step=max(0.5 * params.h_contact, a_h / 60.0) if params.bulk else None,
+        max_normal_step=0.5 * params.h_contact, film=film, bulk=params.bulk,
     )  # fmt: skip
     info = {
         "hertz_half_width": a_h,
