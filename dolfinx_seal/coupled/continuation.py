@@ -348,6 +348,9 @@ def start_coupled(
     }
 
 
+FILM_PRESOLVE_MAX_IT = 300  # film-only steps: the front may move one node per step
+
+
 class FilmPresolver:
     """The film (and, under force control, the counter position) solved on the
     frozen shape of a coupled problem, the solver kept for repeated use
@@ -356,8 +359,9 @@ class FilmPresolver:
     def __init__(self, prob: Any) -> None:
         pos = [b for b in prob.blocks if prob.control == "force" and b[1] is prob.position]
         self.prob = prob
+        opts = dataclasses.replace(prob.solver.options, max_it=FILM_PRESOLVE_MAX_IT)
         self.solver = prob.film.make_solver(
-            prob.solver.options, pos, name=f"{prob.name} film on the predicted shape"
+            opts, pos, name=f"{prob.name} film on the predicted shape"
         )
 
     def solve(self, where: str) -> int:
