@@ -141,12 +141,8 @@ def _walk(
             s_try = target if abs(dist) <= step else current * 10 ** math.copysign(step, dist)
             saved = prob._state()
             film.set_speed(s_try)
-            if st.predictor and len(history) == 2:
-                secant_predictor(prob, history, s_try)
-            if presolver is not None:
-                rec.film_iterations += presolver.solve(f"{prob.name} at speed {s_try:.4g} m/s")
             try:
-                hist = prob.solver.solve(where=f"{prob.name} at speed {s_try:.4g} m/s")
+                hist = _coupled_step(prob, history, s_try, st, presolver, rec, saved)
             except SolverError as e:
                 prob._restore(saved)
                 film.set_speed(current)
@@ -184,6 +180,37 @@ def _walk(
             log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
                       target, rec.error, float(film.speed.value))  # fmt: skip
     return records
+
+
+def _coupled_step(
+    prob: Any,
+    history: Sequence[tuple[float, list[Any]]],
+    speed: float,
+    st: SpeedStepping,
+    presolver: FilmPresolver | None,
+    rec: SweepRecord,
+    saved: list[Any],
+) -> Any:
+    """One continuation step to ``speed`` from the converged state ``saved``: the
+    predictor, the film presolve (if any), the coupled Newton.  A coupled solve that
+    fails after the film presolve is retried once from the predictor alone (on the
+    S1 ball the presolved film is a state the coupled Newton cannot start from).
+    Returns the solve history; raises :class:`SolverError` if the step failed."""
+    where = f"{prob.name} at speed {speed:.4g} m/s"
+    if st.predictor and len(history) == 2:
+        secant_predictor(prob, history, speed)
+    if presolver is None:
+        return prob.solver.solve(where=where)
+    rec.film_iterations += presolver.solve(where)
+    try:
+        return prob.solver.solve(where=where)
+    except SolverError as e:
+        get_logger().info("step to %.4g m/s after the film presolve failed (%s); "
+                          "again without it", speed, e.what)  # fmt: skip
+        prob._restore(saved)
+        if st.predictor and len(history) == 2:
+            secant_predictor(prob, history, speed)
+        return prob.solver.solve(where=where)
 
 
 def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float) -> None:
@@ -314,15 +341,28 @@ def start_coupled(
     ramp_flow = prob.film.params.flow_factor != "none"
     if ramp_flow:  # start on smooth-wall flow, then bring the flow factor in
         prob.film.flow_factor_weight.value = 0.0
+    start = f"{where} at speed {v0:.3g} m/s (start)"
     try:
         if stepping.film_presolve:  # loose coupled solve, film on that shape, then the rest
-            its += _loose_start(prob, f"{where} at speed {v0:.3g} m/s (start)")
+            its += _loose_start(prob, start)
+            loose = prob._state()
             pre = FilmPresolver(prob)
             try:
                 film_start = pre.solve(f"{where} start")
             finally:
                 pre.destroy()
-        its += prob.solve_at(1.0, where=f"{where} at speed {v0:.3g} m/s (start)")
+            try:
+                its += prob.solve_at(1.0, where=start)
+            except SolverError as e:  # the film moved somewhere the coupled Newton
+                get_logger().info(  # cannot start from: finish from the loose state
+                    "start after the film presolve failed (%s); going on from the loose state",
+                    e.what,
+                )
+                its += e.history.newton_iterations
+                prob._restore(loose)
+                its += prob.solve_at(1.0, where=start)
+        else:
+            its += prob.solve_at(1.0, where=start)
     finally:
         prob.solver.snes.setTolerances(max_it=max_it)
     if ramp_flow:

@@ -118,3 +118,36 @@ def test_sweep_stops_after_consecutive_failures_and_keeps_its_points():
     assert prob.state == [prob.film.speed.value] and 5e-3 < prob.state[0] < 1e-2
     with pytest.raises(ParameterError, match="max_failures"):
         SpeedStepping(max_failures=-1)
+
+
+class _SpoilingPresolver:
+    """A film presolve that leaves a state the coupled solve cannot start from
+    (as on the S1 ball): the fake solver fails on the far jump it makes."""
+
+    def __init__(self, prob: _Problem) -> None:
+        self.prob, self.calls, self.destroyed = prob, 0, False
+
+    def solve(self, where: str) -> int:
+        self.calls += 1
+        self.prob.state = [1e-30]
+        return 7
+
+    def destroy(self) -> None:
+        self.destroyed = True
+
+
+def test_a_step_spoiled_by_the_film_presolve_is_retried_without_it(monkeypatch):
+    from dolfinx_seal.coupled import continuation
+
+    made = []
+    monkeypatch.setattr(
+        continuation, "FilmPresolver", lambda p: made.append(_SpoilingPresolver(p)) or made[-1]
+    )
+    prob = _Problem(1e-3, bad=(1.0, 1.0), max_jump=1.0)
+    recs = speed_sweep(prob, [1e-2, 1e-1], lambda v, r: None, dict, SpeedStepping(predictor=False))
+    assert [r.converged for r in recs] == [True, True]
+    # two half-decade steps per decade and none halved: every retry succeeded
+    assert [r.steps for r in recs] == [2, 2]
+    assert [r.film_iterations for r in recs] == [14, 14]
+    assert made[0].calls == 4 and made[0].destroyed
+    assert prob.state == [1e-1]
