@@ -30,7 +30,7 @@ from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters, parse_values, sweep_scene
 from dolfinx_seal.scenes.common import hertz_line
-from dolfinx_seal.verification.line_ehl import LineEHL, LineEHLParameters, speed_continuation
+from dolfinx_seal.verification.line_ehl import for_cylinder, speed_continuation
 
 #: (label, Young's modulus [Pa], asperity shear sigma_1 [Pa]) as in S1 figures 12 and 14
 SYSTEMS = {"E10MPa": (10e6, 1e6), "E100MPa": (100e6, 10e6)}
@@ -46,19 +46,6 @@ def scene(E: float, sigma1: float, cavitation: str, elements: float) -> Any:
     p = make_parameters("cylinder", values={**values, "h_contact": 1e-9})
     a_h, _ = hertz_line(p.load, p.radius, p.material.E_star)
     return make_parameters("cylinder", values={**values, "h_contact": a_h / elements})
-
-
-def reference(p: Any, cells: int, speeds: list[float]) -> list[Any]:
-    """The half-space solution of the same scene at ``speeds``."""
-    e_star = p.material.E_star
-    a_h, _ = hertz_line(p.load, p.radius, e_star)
-    law, _ = p.contact.build(p.roughness, e_star, approach=a_h**2 / p.radius)
-    rp = LineEHLParameters(
-        radius=p.radius, load=p.load, e_star=e_star, viscosity=p.film.viscosity,
-        asperity_shear=p.film.asperity_shear, cavitation=p.film.cavitation, n_cells=cells,
-        upstream=p.film.upstream, downstream=p.film.downstream,
-    )  # fmt: skip
-    return speed_continuation(LineEHL(rp, law), speeds)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -86,7 +73,7 @@ def main(argv: list[str] | None = None) -> None:
                                speeds)  # fmt: skip
             t_fem = time.perf_counter() - t0
             t0 = time.perf_counter()
-            refs = reference(p, args.cells, speeds)
+            refs = speed_continuation(for_cylinder(p, args.cells), speeds)
             t_ref = time.perf_counter() - t0
             by_speed = {round(float(r["speed"]), 12): r for r in rows}
             pairs = [

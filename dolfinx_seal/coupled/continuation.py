@@ -397,12 +397,9 @@ class FilmPresolver:
     (:attr:`SpeedStepping.film_presolve`)."""
 
     def __init__(self, prob: Any) -> None:
-        pos = [b for b in prob.blocks if prob.control == "force" and b[1] is prob.position]
         self.prob = prob
         opts = dataclasses.replace(prob.solver.options, max_it=FILM_PRESOLVE_MAX_IT)
-        self.solver = prob.film.make_solver(
-            opts, pos, name=f"{prob.name} film on the predicted shape"
-        )
+        self.solver = _film_solver(prob, opts, f"{prob.name} film on the predicted shape")
 
     def solve(self, where: str) -> int:
         """Solve from the current state; returns the Newton steps.  A failure
@@ -450,9 +447,18 @@ def film_presolve(prob: Any, where: str) -> int:
     micrometres (the linearisation is far off), and a limited step then creeps;
     after this presolve the coupled Newton converges in 13-17 steps (measured on
     a/15 and a/20 meshes of the S1 ball)."""
+    solver = _film_solver(prob, prob.solver.options, f"{prob.name} film start")
+    try:
+        return solver.solve(where=f"{where}: film on the start shape").newton_iterations
+    finally:
+        solver.destroy()
+
+
+def _film_solver(prob: Any, options: Any, name: str) -> Any:
+    """A solver on the film unknowns and, under force control, the counter position,
+    with the body's shape frozen."""
     pos = [b for b in prob.blocks if prob.control == "force" and b[1] is prob.position]
-    solver = prob.film.make_solver(prob.solver.options, pos, name=f"{prob.name} film start")
-    return solver.solve(where=f"{where}: film on the start shape").newton_iterations
+    return prob.film.make_solver(options, pos, name=name)
 
 
 def _ramp_flow_factor(prob: Any, where: str, min_step: float = 1.0 / 64) -> int:

@@ -71,7 +71,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -829,3 +829,19 @@ __all__ = [
     "Scales",
     "speed_continuation",
 ]
+
+
+def for_cylinder(scene: Any, n_cells: int = 400) -> LineEHL:
+    """The line-contact reference of a cylinder scene's parameters
+    (:class:`~dolfinx_seal.scenes.cylinder.CylinderParameters`, duck-typed so this
+    module needs no DOLFINx): the same radius, load, modulus, film and Persson law
+    (built by the scene's own ``contact.build``) on ``n_cells`` cells."""
+    e_star = scene.material.E_star
+    params = LineEHLParameters(
+        radius=scene.radius, load=scene.load, e_star=e_star, viscosity=scene.film.viscosity,
+        asperity_shear=scene.film.asperity_shear, cavitation=scene.film.cavitation,
+        n_cells=n_cells, upstream=scene.film.upstream, downstream=scene.film.downstream,
+    )  # fmt: skip
+    approach = params.hertz_half_width**2 / scene.radius
+    law, _ = scene.contact.build(scene.roughness, e_star, approach=approach)
+    return LineEHL(params, law)

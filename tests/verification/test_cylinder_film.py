@@ -16,7 +16,7 @@ from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
 from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.verification import slider
-from dolfinx_seal.verification.line_ehl import LineEHL, LineEHLParameters, speed_continuation
+from dolfinx_seal.verification.line_ehl import for_cylinder, speed_continuation
 from dolfinx_seal.verification.martin import martin_solution
 from dolfinx_seal.verification.parallel import copy_coupled_state
 
@@ -232,15 +232,7 @@ def test_fem_matches_the_half_space_reference_with_and_without_cavitation():
         prob, _ = build_lubricated(p)
         start_lubricated(prob, p)
         fem = lubricated_results(prob)
-        e_star = p.material.E_star
-        a_h, _ = hertz_line(p.load, p.radius, e_star)
-        law, _ = p.contact.build(p.roughness, e_star, approach=a_h**2 / p.radius)
-        ref_params = LineEHLParameters(
-            radius=p.radius, load=p.load, e_star=e_star, viscosity=p.film.viscosity,
-            asperity_shear=p.film.asperity_shear, cavitation=cav, n_cells=400,
-            upstream=p.film.upstream, downstream=p.film.downstream,
-        )  # fmt: skip
-        ref = speed_continuation(LineEHL(ref_params, law), [0.0316])[-1]
+        ref = speed_continuation(for_cylinder(p, n_cells=400), [0.0316])[-1]
         for k in ("mu", "mu_couette", "mu_poiseuille", "h_min", "h_central"):
             assert fem[k] == pytest.approx(getattr(ref, k), rel=1e-2), (cav, k)
         assert fem["mu_asperity"] == pytest.approx(ref.mu_asperity, rel=2e-2), cav
