@@ -4,12 +4,15 @@ DX ?= scripts/dx
 NP ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo test test-serial test-mpi test-slow lint bench env
+.PHONY: demo test test-dx-paths test-serial test-mpi test-slow lint bench env
 
 demo:  ## the main demo: a short ball Stribeck sweep (writes into results/demo)
 	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo
 
-test: test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
+test: test-dx-paths test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
+
+test-dx-paths:  ## on the host: scripts/dx sees the caller's cwd, $HOME, /tmp and path arguments
+	bash tests/test_dx_paths.sh
 
 test-serial:
 	$(DX) python3 -m pytest $(PYTEST_FLAGS)
@@ -20,8 +23,8 @@ test-mpi:
 test-slow:  ## heavier verification cases (not in CI's default suite)
 	$(DX) python3 -m pytest $(PYTEST_FLAGS) -m slow
 
-lint:  ## ruff runs on the host (no DOLFINx needed)
-	ruff format --check . && ruff check .
+lint:  ## ruff on the host (no DOLFINx needed), from a small tools venv in the cache (scripts/tool)
+	scripts/tool ruff format --check . && scripts/tool ruff check .
 
 bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/reynolds_scaling.py
