@@ -4,8 +4,13 @@ Sub-commands:
 
 * ``versions``           -- DOLFINx, PETSc, petsc4py, mpi4py, gmsh, ... versions.
 * ``scenes``             -- the registered scenes and what they compute.
-* ``run SCENE``          -- one point of a scene (``--scene FILE.toml``, ``--set key=value``).
-* ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``).
+* ``params SCENE``       -- every parameter of a scene: dotted name, default, unit,
+  allowed values, meaning (``--all --markdown --output docs/parameters.md``
+  regenerates the parameter reference).
+* ``run SCENE``          -- one point of a scene (``--scene FILE.toml``, ``--set key=value``);
+  prints the results-contract scalars with units, the full record is ``results.json``.
+* ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``);
+  one line per finished point.
 * ``study SCENE``        -- error against run time over resolution levels.
 * ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
 
@@ -17,14 +22,14 @@ database (e.g. ``--petsc -snes_monitor``).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from dolfinx_seal import scenes as _scenes
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.mpi import print0, setup_logging
-from dolfinx_seal.output import versions
+from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
+from dolfinx_seal.output import on_sweep_row, results_table, sweep_point_line, versions
 
 
 def _cmd_versions(args: argparse.Namespace) -> int:
@@ -41,21 +46,65 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_params(args: argparse.Namespace) -> int:
+    from dolfinx_seal import paramdoc
+
+    if args.all == (args.scene is not None):
+        raise ParameterError("params: give one SCENE or --all")
+    if args.all and (args.set or args.scene_file):
+        raise ParameterError("params --all lists the defaults; --set/--scene-file need one SCENE")
+    names = _scenes.available() if args.all else [args.scene]
+    if args.markdown and args.all:
+        text = paramdoc.markdown(names)
+    else:
+        chunks = []
+        for name in names:
+            rows = paramdoc.scene_parameters(name, args.scene_file, args.set)
+            if args.markdown:
+                chunks.append(f"## `{name}`\n\n{paramdoc.markdown_table(rows)}\n")
+            else:
+                given = bool(args.set or args.scene_file)
+                table = paramdoc.text_table(rows, "value" if given else "default")
+                note = (
+                    "bounds that depend on other parameters are evaluated at these values; "
+                    "units SI, - dimensionless"
+                )
+                chunks.append(f"{name}: {_scenes.get(name).summary}\n{table}\n({note})\n")
+        text = "\n".join(chunks)
+    if args.output:
+        if COMM_WORLD.rank == 0:
+            Path(args.output).write_text(text if text.endswith("\n") else text + "\n")
+        print0(f"written {args.output}")
+    else:
+        print0(text.rstrip("\n"))
+    return 0
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}"
     res = _scenes.run_scene(args.scene, p, out)
-    shown = {k: v for k, v in res.items() if isinstance(v, int | float | bool)}
-    print0(json.dumps(shown, indent=1))
+    print0(f"{args.scene} results:")
+    print0(results_table(res, "results.json"))
     print0(f"results written to {out}/results.json")
     return 0 if res.get("converged", True) else 1
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from dolfinx_seal.paramdoc import field_unit
+
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}-sweep"
     values = _scenes.parse_values(args.values)
-    rows = _scenes.sweep_scene(args.scene, p, out, args.over, values)
+    unit = field_unit(p, args.over)
+    done = [0]
+
+    def echo(row: dict) -> None:
+        done[0] += 1
+        print0(f"[{done[0]}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
+
+    with on_sweep_row(Path(out) / "sweep.csv", echo):
+        rows = _scenes.sweep_scene(args.scene, p, out, args.over, values)
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
     return 0 if len(rows) == len(values) else 1
 
@@ -100,6 +149,20 @@ def build_parser() -> argparse.ArgumentParser:
                 help="override a parameter (dotted keys for nested ones); repeatable",
             )  # fmt: skip
             sp.add_argument("--out", help="output folder (default results/SCENE[-sweep])")
+
+        sp = sub.add_parser(
+            "params", help="list a scene's parameters: default, unit, allowed values, meaning"
+        )
+        sp.add_argument("scene", nargs="?", choices=_scenes.available())
+        sp.add_argument("--all", action="store_true", help="every registered scene")
+        sp.add_argument("--markdown", action="store_true", help="Markdown tables")
+        sp.add_argument("--output", help="write to this file instead of the terminal")
+        sp.add_argument("--scene-file", help="show the values resolved from this TOML file")
+        sp.add_argument(
+            "--set", action="append", default=[], metavar="KEY=VALUE",
+            help="show the values (and dependent bounds) with this override; repeatable",
+        )  # fmt: skip
+        sp.set_defaults(func=_cmd_params)
 
         sp = sub.add_parser("run", help="run one point of a scene")
         common(sp)

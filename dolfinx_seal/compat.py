@@ -4,15 +4,21 @@ Supported: DOLFINx 0.9 (Debian 13).  Written to be ready for 0.10, which
 changes ``gmshio.model_to_mesh`` (returns a MeshData object), removes the
 ``*_block`` assembly functions (replaced by ``kind="mpi"`` arguments) and makes
 ``interpolation_points`` a property.  No other module may test versions.
+
+Importing this module also makes form compilation quiet (:func:`quiet_jit`):
+every module of the package that compiles forms imports it.
 """
 
 from __future__ import annotations
 
+import functools
+import os
 from collections.abc import Sequence
 from typing import Any
 
 import dolfinx
 import dolfinx.fem.petsc as _fem_petsc
+import dolfinx.jit
 import numpy as np
 from dolfinx.io import gmshio
 from petsc4py import PETSc
@@ -20,6 +26,46 @@ from petsc4py import PETSc
 DOLFINX_VERSION: tuple[int, ...] = tuple(int(x) for x in dolfinx.__version__.split(".")[:2])
 
 _HAS_BLOCK = hasattr(_fem_petsc, "assemble_vector_block")
+
+
+# ------------------------------------------------------------------ quiet JIT
+#: Set this environment variable to 1 to see the C compiler's warnings again.
+JIT_WARNINGS_ENV = "DOLFINX_SEAL_JIT_WARNINGS"
+
+
+def quiet_jit() -> None:
+    """Compile every form and expression without C compiler warnings (idempotent).
+
+    FFCx hands the generated C to CFFI, whose compiler runs with Python's build
+    flags (``-Wall``) and writes its warnings (``-Wunused-variable`` in
+    ``libffcx_forms_*.c`` and the like) straight to the process's stderr; FFCx
+    only captures CFFI's own log.  This wraps :func:`dolfinx.jit.get_options`
+    (which every DOLFINx JIT compilation calls) so that the compiler arguments
+    always end with ``-w``, whatever the caller's ``jit_options`` or the user's
+    ``dolfinx_jit_options.json`` say.  ``-w`` suppresses warnings only: a failing
+    compilation still prints the compiler's error and raises.  The arguments are
+    part of FFCx's cache key, so quiet modules do not mix with others in the cache.
+    With ``DOLFINX_SEAL_JIT_WARNINGS=1`` (read at each compilation) nothing is added.
+    """
+    if getattr(dolfinx.jit.get_options, "_dolfinx_seal_quiet", False):
+        return
+    original = dolfinx.jit.get_options
+
+    @functools.wraps(original)
+    def get_options(priority_options: dict | None = None) -> dict:
+        options = original(priority_options)
+        if os.environ.get(JIT_WARNINGS_ENV, "0") in ("", "0"):
+            args = list(options.get("cffi_extra_compile_args") or [])
+            if "-w" not in args:
+                args.append("-w")
+            options["cffi_extra_compile_args"] = args
+        return options
+
+    get_options._dolfinx_seal_quiet = True  # type: ignore[attr-defined]
+    dolfinx.jit.get_options = get_options
+
+
+quiet_jit()
 
 
 # ---------------------------------------------------------------- gmsh -> mesh

@@ -6,6 +6,12 @@ files and the ``--set key=value`` overrides of the CLI.  This module turns
 mappings and ``key=value`` strings into those dataclasses, rejecting unknown
 keys, and offers the range checks the dataclasses call in ``__post_init__``.
 
+The checks are also the single source of the allowed ranges that
+``dolfinx-seal params`` and ``docs/parameters.md`` show: inside
+:func:`recording_checks`, every check that passes is recorded together with the
+dataclass instances whose ``__post_init__`` is running
+(:mod:`dolfinx_seal.paramdoc` maps the records to dotted parameter names).
+
 All values are SI.
 """
 
@@ -13,16 +19,88 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import tomllib
 import types
 import typing
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
 from dolfinx_seal.errors import ParameterError
 
 T = TypeVar("T")
+
+
+# ------------------------------------------------------- recording the checks
+@dataclass(frozen=True)
+class CheckRecord:
+    """One check that passed while :func:`recording_checks` was active.
+
+    Attributes:
+        name: The name the check was called with (e.g. ``"film.speed"``, ``"E"``).
+        value: The value checked.
+        kind: ``"range"`` (real interval), ``"integer"`` (integer interval) or ``"choice"``.
+        lo, hi: Bounds of the interval (``-inf`` / ``inf`` when open-ended).
+        lo_open, hi_open: Whether a bound is excluded.
+        unit: The unit text the check was given (e.g. ``"m (<= a_Hertz/4)"``), or "".
+        choices: The allowed values of a ``"choice"`` check.
+        owners: The dataclass instances whose ``__post_init__`` was running when the
+            check was called, innermost first.
+    """
+
+    name: str
+    value: Any
+    kind: str
+    lo: float = -math.inf
+    hi: float = math.inf
+    lo_open: bool = False
+    hi_open: bool = False
+    unit: str = ""
+    choices: tuple[Any, ...] = ()
+    owners: tuple[Any, ...] = ()
+
+
+_RECORDERS: list[list[CheckRecord]] = []
+
+
+@contextmanager
+def recording_checks() -> Iterator[list[CheckRecord]]:
+    """Collect a :class:`CheckRecord` for every check that passes inside the block.
+
+    Used to read the allowed ranges off the checks themselves (construct the
+    parameters inside the block), so documented ranges cannot drift from the
+    enforced ones.  Recording costs nothing outside such a block.
+    """
+    records: list[CheckRecord] = []
+    _RECORDERS.append(records)
+    try:
+        yield records
+    finally:
+        _RECORDERS.remove(records)
+
+
+def _validating_instances() -> tuple[Any, ...]:
+    """Dataclass instances whose ``__post_init__`` is on the call stack, innermost first."""
+    out = []
+    frame = sys._getframe(1)
+    while frame is not None:
+        if frame.f_code.co_name == "__post_init__":
+            obj = frame.f_locals.get("self")
+            if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+                out.append(obj)
+        frame = frame.f_back
+    return tuple(out)
+
+
+def _record(name: str, value: Any, kind: str, **kw: Any) -> None:
+    if not _RECORDERS:
+        return
+    r = CheckRecord(name=name, value=value, kind=kind, owners=_validating_instances(), **kw)
+    for records in _RECORDERS:
+        records.append(r)
 
 
 # --------------------------------------------------------------------- checks
@@ -55,12 +133,13 @@ def check_range(
     v = check_finite(name, value)
     bad = (v < lo or (lo_open and v == lo)) or (v > hi or (hi_open and v == hi))
     if bad:
-        left = "(" if lo_open else "["
-        right = ")" if hi_open else "]"
+        left = "(" if lo_open or lo == -math.inf else "["
+        right = ")" if hi_open or hi == math.inf else "]"
         u = f" {unit}" if unit else ""
         raise ParameterError(
             f"{name} = {value!r}{u} is outside the allowed range {left}{lo:g}, {hi:g}{right}"
         )
+    _record(name, value, "range", lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
     return v
 
 
@@ -79,6 +158,7 @@ def check_choice(name: str, value: str, choices: Iterable[str]) -> str:
     choices = tuple(choices)
     if value not in choices:
         raise ParameterError(f"{name} = {value!r} is not one of {', '.join(map(repr, choices))}")
+    _record(name, value, "choice", choices=choices)
     return value
 
 
@@ -90,6 +170,7 @@ def check_int_range(name: str, value: int, lo: int, hi: int | None = None) -> in
     if v < lo or (hi is not None and v > hi):
         rng = f"[{lo}, {hi}]" if hi is not None else f"[{lo}, inf)"
         raise ParameterError(f"{name} = {value!r} is outside the allowed range {rng}")
+    _record(name, value, "integer", lo=lo, hi=math.inf if hi is None else hi)
     return v
 
 
@@ -187,9 +268,31 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: 
             kwargs[key] = from_mapping(tp, value, prefix=f"{full}.", base=inner)
         else:
             kwargs[key] = _coerce(full, tp, value)
-    if base is not None:
-        return dataclasses.replace(base, **kwargs)
-    return cls(**kwargs)
+    try:
+        if base is not None:
+            return dataclasses.replace(base, **kwargs)
+        return cls(**kwargs)
+    except ParameterError as e:
+        if not prefix:
+            raise
+        raise ParameterError(_dotted_message(str(e), cls, prefix)) from None
+
+
+def _dotted_message(msg: str, cls: type, prefix: str) -> str:
+    """``msg`` of a check inside nested dataclass ``cls`` at ``prefix``, with the
+    parameter it starts with spelled in full (``interference = ...`` under
+    ``lip.`` becomes ``lip.interference = ...``; ``roughness.h_rms`` under
+    ``lip.roughness.`` becomes ``lip.roughness.h_rms``)."""
+    token = msg.split(" ", 1)[0]
+    if token.startswith(prefix):
+        return msg
+    head = token.split(".", 1)[0]
+    owner = prefix[:-1].rsplit(".", 1)[-1]
+    if "." in token and head == owner:  # the check names itself "table.field"
+        return prefix[: -len(owner) - 1] + msg
+    if head in {f.name for f in dataclasses.fields(cls)}:
+        return prefix + msg
+    return msg
 
 
 def _field_default(cls: type, name: str) -> Any:
