@@ -34,6 +34,11 @@ smooth one).  Two models:
   The shear flow factor is taken as ``phi_s = 0`` (no roughness transport term)
   -- S0 sets ``sigma'_eff = u`` after eq 9, i.e. the plain Couette flux -- so
   :meth:`BruggemanFlowFactor.shear_factor` returns zeros.
+
+Domains: every factor takes ``u > 0`` [m] (finite) and returns finite values,
+``0 <= phi_p <= 1`` and ``phi_s >= 0``; other ``u`` raise ParameterError naming
+the factor, the value and the range.  :class:`LogHermiteTable` checks at
+construction that its interpolant stays in ``[0, 1]``.
 """
 
 from __future__ import annotations
@@ -70,7 +75,7 @@ class PatirCheng:
         self.sigma = check_positive("sigma", sigma, "m")
 
     def _h(self, u: ArrayLike) -> FloatArray:
-        return as_array("u", u, 0.0) / self.sigma
+        return as_array("u", u, 0.0, law=self.name, unit="m") / self.sigma
 
     def pressure_factor(self, u: ArrayLike) -> FloatArray:
         """``phi_p(u) = 1 - 0.9 exp(-0.56 u/sigma)`` [-], ``u > 0`` [m]."""
@@ -81,17 +86,38 @@ class PatirCheng:
         return _PC_C * _PC_R / self.sigma * np.exp(-_PC_R * self._h(u))
 
     def shear_factor(self, u: ArrayLike) -> FloatArray:
-        """``phi_s(u)`` [-] for one rough surface."""
+        """``phi_s(u)`` [-] for one rough surface (each fit evaluated on its own range)."""
         h = self._h(u)
-        low = _PC_A1 * h**_PC_A1E * np.exp(-_PC_A2E * h + _PC_A3E * h * h)
-        return np.where(h <= 5.0, low, _PC_A2 * np.exp(-0.25 * h))
+        out = np.empty_like(h)
+        low = h <= 5.0
+        hl = h[low]
+        out[low] = _PC_A1 * hl**_PC_A1E * np.exp(-_PC_A2E * hl + _PC_A3E * hl * hl)
+        out[~low] = _PC_A2 * np.exp(-0.25 * h[~low])
+        return out
 
     def dshear_factor_du(self, u: ArrayLike) -> FloatArray:
-        """``d phi_s / du`` [1/m]."""
+        """``d phi_s / du`` [1/m], finite for every ``u > 0``.
+
+        On the low fit ``phi_s (A1E/H - A2E + 2 A3E H)``, with ``phi_s / H`` written
+        as ``A1 H^(A1E - 1) exp(...)`` where ``phi_s`` underflows (``H`` below ~1e-300).
+        """
         h = self._h(u)
-        low = self.shear_factor(u) * (_PC_A1E / h - _PC_A2E + 2.0 * _PC_A3E * h)
-        high = -0.25 * _PC_A2 * np.exp(-0.25 * h)
-        return np.where(h <= 5.0, low, high) / self.sigma
+        out = np.empty_like(h)
+        low = h <= 5.0
+        hl = h[low]
+        phi = self.shear_factor(u)[low]
+        with np.errstate(over="ignore"):  # A1E / H = inf for denormal H: redone below
+            d = phi * (_PC_A1E / hl - _PC_A2E + 2.0 * _PC_A3E * hl)
+        tiny = ~np.isfinite(d) | (phi == 0.0)
+        if np.any(tiny):
+            ht = hl[tiny]
+            e = np.exp(-_PC_A2E * ht + _PC_A3E * ht * ht)
+            d[tiny] = _PC_A1 * e * (
+                _PC_A1E * ht ** (_PC_A1E - 1.0) + ht**_PC_A1E * (-_PC_A2E + 2.0 * _PC_A3E * ht)
+            )
+        out[low] = d
+        out[~low] = -0.25 * _PC_A2 * np.exp(-0.25 * h[~low])
+        return out / self.sigma
 
 
 class LogHermiteTable:
@@ -104,12 +130,20 @@ class LogHermiteTable:
     contact); above the last ``phi = 1 - c/H^2`` with ``c = (1 - phi_N) H_N^2``
     (Tripp's tail).  :meth:`__call__` is the same function in numpy.
 
+    The table must describe a flow factor, ``0 <= phi <= 1`` for every ``u > 0``:
+    the constructor checks that ``dphi/ds >= 0`` at the first node (else the
+    power law below it would grow without bound as ``u -> 0``) and that every
+    cubic segment stays in ``[0, 1]`` (at its ends and interior extrema), and
+    raises ParameterError otherwise.
+
     Args:
         s: Nodes ``ln(u/h_rms)`` (increasing).
         phi: Values at the nodes.
         dphi_ds: Slopes ``d phi / d s`` at the nodes.
         h_rms: Rms roughness [m].
     """
+
+    name = "log-hermite-table"
 
     def __init__(self, s: ArrayLike, phi: ArrayLike, dphi_ds: ArrayLike, h_rms: float) -> None:
         self.s = np.asarray(s, dtype=float)
@@ -118,8 +152,37 @@ class LogHermiteTable:
         self.h_rms = check_positive("h_rms", h_rms, "m")
         if not (np.all(np.diff(self.s) > 0) and self.phi[0] > 0 and self.phi[-1] < 1):
             raise ParameterError("LogHermiteTable: nodes must increase and 0 < phi < 1 at the ends")
+        if not (np.all(np.isfinite(self.phi)) and np.all(np.isfinite(self.dphi))):
+            raise ParameterError("LogHermiteTable: phi and dphi_ds must be finite")
+        if self.dphi[0] < 0:
+            raise ParameterError(
+                f"LogHermiteTable: dphi/ds = {self.dphi[0]:.6g} at the first node is outside "
+                "the allowed range dphi/ds >= 0 (phi_0 (H/H_0)^k below it would grow without "
+                "bound as u -> 0)"
+            )
+        for j in range(self.s.size - 1):
+            t, v = self._segment_extrema(j)
+            k = int(np.argmin(v)) if v.min() < 0.0 else int(np.argmax(v))
+            if v[k] < 0.0 or v[k] > 1.0:
+                sk = self.s[j] + t[k] * (self.s[j + 1] - self.s[j])
+                raise ParameterError(
+                    f"LogHermiteTable: the interpolant reaches phi = {v[k]:.6g} at u/h_rms = "
+                    f"{math.exp(sk):.6g}, outside the allowed range [0, 1] of a flow factor"
+                )
         self.k_low = self.dphi[0] / self.phi[0]
         self.c_tail = (1.0 - self.phi[-1]) * math.exp(2.0 * self.s[-1])
+
+    def _segment_extrema(self, j: int) -> tuple[FloatArray, FloatArray]:
+        """Local coordinates ``t in [0, 1]`` of the ends and interior extrema of segment
+        ``j`` and the values there."""
+        h = float(self.s[j + 1] - self.s[j])
+        p0, p1 = float(self.phi[j]), float(self.phi[j + 1])
+        d0, d1 = float(self.dphi[j]) * h, float(self.dphi[j + 1]) * h
+        c1, c2, c3 = d0, -3 * p0 - 2 * d0 + 3 * p1 - d1, 2 * p0 + d0 - 2 * p1 + d1
+        roots = np.roots([3 * c3, 2 * c2, c1]) if (c3 or c2) else np.array([])
+        r = roots.real[(np.abs(roots.imag) < 1e-12) & (roots.real > 0) & (roots.real < 1)]
+        t = np.concatenate(([0.0, 1.0], r))
+        return t, np.array(self.segment(j, self.s[j] + t * h), dtype=float)
 
     def segment(self, j: int, s: Any) -> Any:
         """Cubic Hermite polynomial of interval ``j`` at ``s`` (numpy or UFL)."""
@@ -137,13 +200,14 @@ class LogHermiteTable:
 
     def __call__(self, u: ArrayLike) -> FloatArray:
         """``phi(u)`` [-] at separations ``u`` [m] (numpy)."""
-        ua = as_array("u", u, 0.0)
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
         H = np.maximum(ua / self.h_rms, 1e-300)
         s = np.log(H)
         out = np.empty_like(H)
         lo, hi = s < self.s[0], s > self.s[-1]
         out[lo] = self.phi[0] * np.exp(self.k_low * (s[lo] - self.s[0]))
-        out[hi] = 1.0 - self.c_tail / H[hi] ** 2
+        with np.errstate(over="ignore"):  # H^2 = inf: phi = 1
+            out[hi] = 1.0 - self.c_tail / H[hi] ** 2
         mid = ~(lo | hi)
         j = np.clip(np.searchsorted(self.s, s[mid], side="right") - 1, 0, self.s.size - 2)
         out[mid] = [self.segment(int(jj), ss) for jj, ss in zip(j, s[mid], strict=True)]
@@ -225,6 +289,11 @@ class BruggemanFlowFactor:
             s = bruggeman_conductivity(prof.area[-1, j], prof.area_drop[:, j], u, wk)
             phi[j] = s / prof.mean_separation[0, j] ** 3
         ubar = prof.mean_separation[0][::-1]
+        if not (np.all(np.isfinite(phi)) and np.all((phi >= 0.0) & (phi < 1.0))):
+            raise ParameterError(
+                f"{self.name}: the computed pressure flow factor leaves the allowed range "
+                f"[0, 1) (min {np.min(phi):.6g}, max {np.max(phi):.6g}); check the PSD"
+            )
         self.u_table, self.phi_table = ubar, phi[::-1]
         self.percolation_separation = float(ubar[0])
         self._interp = PchipInterpolator(ubar, self.phi_table, extrapolate=False)
@@ -233,22 +302,24 @@ class BruggemanFlowFactor:
 
     def pressure_factor(self, u: ArrayLike) -> FloatArray:
         """``phi_p(u)`` [-], ``u > 0`` [m]."""
-        ua = as_array("u", u, 0.0)
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
         out = np.zeros_like(ua)
         mid = (ua >= self.u_table[0]) & (ua <= self.u_table[-1])
         out[mid] = self._interp(ua[mid])
         big = ua > self.u_table[-1]
-        out[big] = 1.0 - self._c_tail * (self.h_rms / ua[big]) ** 2
+        with np.errstate(under="ignore"):
+            out[big] = 1.0 - self._c_tail * (self.h_rms / ua[big]) ** 2
         return out
 
     def dpressure_factor_du(self, u: ArrayLike) -> FloatArray:
         """``d phi_p / du`` [1/m] (of the interpolant)."""
-        ua = as_array("u", u, 0.0)
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
         out = np.zeros_like(ua)
         mid = (ua >= self.u_table[0]) & (ua <= self.u_table[-1])
         out[mid] = self._dinterp(ua[mid])
         big = ua > self.u_table[-1]
-        out[big] = 2.0 * self._c_tail * self.h_rms**2 / ua[big] ** 3
+        with np.errstate(over="ignore"):  # u^3 = inf: slope 0
+            out[big] = 2.0 * self._c_tail * self.h_rms**2 / ua[big] ** 3
         return out
 
     def hermite_table(
@@ -268,4 +339,4 @@ class BruggemanFlowFactor:
 
     def shear_factor(self, u: ArrayLike) -> FloatArray:
         """``phi_s = 0`` (S0's choice, see the module docstring)."""
-        return np.zeros_like(as_array("u", u, 0.0))
+        return np.zeros_like(as_array("u", u, 0.0, law=self.name, unit="m"))

@@ -16,6 +16,15 @@
 
 Contact area (S0 eq 5, S1 section 4): ``A/A0 = erf(sqrt(2) p / (E* <|grad
 h|^2>^{1/2}))``; with a yield stress, ``P_el + P_pl`` of S3 appendix C.
+
+Domains (see :mod:`~dolfinx_seal.contact.base`): the area laws hold for every
+``p >= 0`` and give ``0 <= A/A0 <= 1``; ``PerssonLaw`` and ``ClosedFormPersson``
+take ``u > 0`` and give finite ``p > 0`` (``p >= 0`` for the closed form, whose
+exponential may underflow far from contact); ``PerssonExponentialLaw.pressure``
+takes any real ``u``.  The inverses ``separation(p)`` return ``u >= 0`` or raise
+ParameterError: ``PerssonLaw`` for ``0 < p <= p_max`` (the pressure at the
+smallest normal double separation, of order ``E*``), ``PerssonExponentialLaw``
+for ``0 < p <= beta E*`` (where its ``u`` reaches 0).
 """
 
 from __future__ import annotations
@@ -31,21 +40,29 @@ from scipy.interpolate import PchipInterpolator
 from scipy.optimize import least_squares
 from scipy.special import erf, erfinv
 
-from dolfinx_seal.contact.base import ContactLaw, FloatArray, as_array
+from dolfinx_seal.contact.base import (
+    ContactLaw,
+    FloatArray,
+    as_array,
+    check_at_most,
+    finite_slope,
+)
 from dolfinx_seal.contact.persson_theory import PerssonTheory, elastoplastic_fractions
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_positive, check_range
+from dolfinx_seal.params import check_nonnegative, check_positive, check_range
 from dolfinx_seal.roughness.psd import PowerSpectrum
 
 #: Largest exponent passed to ``exp`` (``exp(700) ~ 1e304``); see PerssonExponentialLaw.
 _EXP_CAP = 700.0
 #: ``ln`` of the smallest normal double: floor of ``ln p`` so ``p(u) > 0`` for every ``u``.
-_LN_TINY = math.log(np.finfo(float).tiny)
+_TINY = float(np.finfo(float).tiny)
+_LN_TINY = math.log(_TINY)
 
 
 class _AreaMixin:
     """``A/A0`` from the erf law, optionally elastoplastic (S3 appendix C)."""
 
+    name: str
     e_star: float
     rms_slope: float
     yield_stress: float | None
@@ -55,18 +72,29 @@ class _AreaMixin:
         """``A/A0`` at nominal contact pressure ``p >= 0`` [Pa].
 
         Elastic: ``erf(sqrt 2 p / (E* slope))``.  With ``yield_stress``:
-        ``P_el + P_pl`` (S3 eqs C9-C10); ``p >= yield_stress`` gives 1.
+        ``P_el + P_pl`` (S3 eqs C9-C10); ``p >= yield_stress`` gives 1.  Where
+        ``g = G/p^2`` overflows (``p`` below ~1e-150 Pa) both fractions are linear
+        in ``p`` (to rounding), and ``A/A0`` is scaled from ``p_ref = 1e-100
+        min(yield_stress, G^{1/2})``.
         """
-        pa = as_array("p", p, 0.0, lo_open=False)
+        pa = as_array("p", p, 0.0, lo_open=False, law=self.name, unit="Pa")
         if self.yield_stress is None:
             return erf(math.sqrt(2.0) * pa / (self.e_star * self.rms_slope))
         out = np.ones_like(pa)
         ok = (pa > 0) & (pa < self.yield_stress)
         out[pa == 0] = 0.0
+        with np.errstate(over="ignore", divide="ignore"):
+            g = self._g_full / np.where(ok, pa, 1.0) ** 2
+        lin = ok & ~np.isfinite(g)
+        ok &= np.isfinite(g)
         if np.any(ok):
-            g = self._g_full / pa[ok] ** 2
-            pel, ppl, _ = elastoplastic_fractions(g, pa[ok] / self.yield_stress)
+            pel, ppl, _ = elastoplastic_fractions(g[ok], pa[ok] / self.yield_stress)
             out[ok] = pel + ppl
+        if np.any(lin):
+            p_ref = 1e-100 * min(self.yield_stress, math.sqrt(self._g_full))
+            g_ref = self._g_full / p_ref**2
+            pel, ppl, _ = elastoplastic_fractions(g_ref, p_ref / self.yield_stress)
+            out[lin] = float(pel + ppl) * (pa[lin] / p_ref)
         return out
 
     def pressure_from_area(self, a: ArrayLike) -> FloatArray:
@@ -75,9 +103,13 @@ class _AreaMixin:
         Raises ParameterError for ``a`` outside ``[0, 1)``: full contact needs an
         infinite pressure in Persson's theory (``erfinv(1) = inf``).
         """
-        aa = as_array("area fraction", a, 0.0, lo_open=False)
+        aa = as_array("area fraction", a, 0.0, lo_open=False, law=self.name)
         if np.any(aa >= 1.0):
-            raise ParameterError("area fraction must be < 1 (full contact needs infinite pressure)")
+            first = float(aa[aa >= 1.0].ravel()[0])
+            raise ParameterError(
+                f"contact law {self.name!r}: area fraction = {first!r} is outside the allowed "
+                "range [0, 1): it must be < 1 (full contact needs infinite pressure)"
+            )
         return self.e_star * self.rms_slope * erfinv(aa) / math.sqrt(2.0)
 
 
@@ -98,6 +130,9 @@ class PerssonLaw(_AreaMixin, ContactLaw):
             ``1e-10 <= p/E* <= 1e-6`` (reported; they agree with the analytic ones).
         h_rms, rms_slope: Of ``psd`` [m], [-].
         u_table, p_table: The tabulated relation (increasing ``u``).
+        p_max: Largest pressure [Pa] :meth:`separation` accepts, ``p`` at the smallest
+            normal double separation (2.2e-308 m): 0.81, 3.6 and 39 ``E*`` for
+            H = 0.95, 0.8 and 0.6 on the S1 spectrum (q1/q0 = 7.8e5).
     """
 
     name = "persson"
@@ -138,6 +173,7 @@ class PerssonLaw(_AreaMixin, ContactLaw):
         sel = (p >= 1e-10 * self.e_star) & (p <= 1e-6 * self.e_star)
         slope, icpt = np.polyfit(u[sel] / self.h_rms, np.log(p[sel] / self.e_star), 1)
         self.alpha_fit, self.beta_fit = float(-slope), float(math.exp(icpt))
+        self.p_max = float(self.pressure(np.array(_TINY)))
 
     # ---------------------------------------------------------------- p(u)
     def _ln_p(self, u: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -165,19 +201,33 @@ class PerssonLaw(_AreaMixin, ContactLaw):
         ``ln p`` is floored at ``ln`` of the smallest normal double so ``p`` stays
         positive instead of underflowing to 0 (only for ``u`` beyond ~300 h_rms).
         """
-        ua = as_array("u", u, 0.0)
-        lnp, _ = self._ln_p(ua.ravel())
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
+        with np.errstate(over="ignore", divide="ignore"):  # the unused slope at denormal u
+            lnp, _ = self._ln_p(ua.ravel())
         return np.exp(np.maximum(lnp, _LN_TINY)).reshape(ua.shape)
 
     def dpressure_du(self, u: ArrayLike) -> FloatArray:
-        """Exact derivative of :meth:`pressure` [Pa/m] (negative)."""
-        ua = as_array("u", u, 0.0)
-        lnp, dln = self._ln_p(ua.ravel())
-        return (np.exp(np.maximum(lnp, _LN_TINY)) * dln).reshape(ua.shape)
+        """Exact derivative of :meth:`pressure` [Pa/m] (negative; finite, see
+        :func:`~dolfinx_seal.contact.base.finite_slope`)."""
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
+        with np.errstate(over="ignore", divide="ignore"):
+            lnp, dln = self._ln_p(ua.ravel())
+            d = np.exp(np.maximum(lnp, _LN_TINY)) * dln
+        return finite_slope(d).reshape(ua.shape)
 
     def separation(self, p: ArrayLike) -> FloatArray:
-        """Inverse ``u(p)`` [m] of :meth:`pressure` (to rounding), ``p > 0`` [Pa]."""
-        pa = as_array("p", p, 0.0)
+        """Inverse ``u(p)`` [m] of :meth:`pressure` (to rounding), ``0 < p <= p_max`` [Pa].
+
+        Above ``p_max`` (of order ``E*``) the separation would be below the smallest
+        normal double, outside the domain ``u > 0`` of :meth:`pressure` once
+        rounded: ParameterError.
+        """
+        pa = as_array("p", p, 0.0, law=self.name, unit="Pa")
+        check_at_most(
+            self.name, "p", pa, self.p_max,
+            f"0 < p <= p_max = {self.p_max:.6g} Pa = {self.p_max / self.e_star:.3g} E*", "Pa",
+            f"above p_max the separation is below {_TINY:.3g} m",
+        )  # fmt: skip
         lp = np.log(pa.ravel())
         # initial guess from the table (monotone in reverse), then Newton on ln p(u)
         lu = np.interp(-lp, -self._lp, self._lu)
@@ -242,10 +292,11 @@ class PerssonLaw(_AreaMixin, ContactLaw):
 class PerssonExponentialLaw(_AreaMixin, ContactLaw):
     """``p(u) = beta E* exp(-alpha u / h_rms)`` (S1 eq 4, S0 eq 7).
 
-    Defined for every real ``u`` (a Newton iterate may overshoot to ``u < 0``);
-    ``ln p`` is capped at 700 (``p ~ 1e304`` Pa, a penetration of hundreds of
-    ``h_rms``, far beyond any physical state) so ``p`` stays finite instead of
-    overflowing.
+    :meth:`pressure` is defined for every real ``u`` (a Newton iterate may
+    overshoot to ``u < 0``); ``ln p`` is capped at 700 (``p ~ 1e304`` Pa, a
+    penetration of hundreds of ``h_rms``, far beyond any physical state) so ``p``
+    stays finite instead of overflowing.  :meth:`separation` inverts it only on
+    ``0 < p <= beta E*``, where ``u >= 0`` (see there).
 
     Args:
         alpha, beta: Dimensionless parameters (``>0``).
@@ -287,23 +338,60 @@ class PerssonExponentialLaw(_AreaMixin, ContactLaw):
         return cls(a, b, e_star, psd.h_rms(), psd.rms_slope())
 
     def pressure(self, u: ArrayLike) -> FloatArray:
-        """``beta E* exp(-alpha u/h_rms)`` [Pa]."""
-        ua = as_array("u", u)
-        lnp = math.log(self.beta * self.e_star) - self.alpha * ua / self.h_rms
+        """``beta E* exp(-alpha u/h_rms)`` [Pa], any real ``u`` [m]."""
+        ua = as_array("u", u, law=self.name, unit="m")
+        with np.errstate(over="ignore"):  # |alpha u/h_rms| = inf: p = exp(700) or 0
+            lnp = math.log(self.beta * self.e_star) - self.alpha * ua / self.h_rms
         return np.exp(np.minimum(lnp, _EXP_CAP))
 
     def dpressure_du(self, u: ArrayLike) -> FloatArray:
-        """``-alpha/h_rms p(u)`` [Pa/m]."""
-        return -self.alpha / self.h_rms * self.pressure(u)
+        """``-alpha/h_rms p(u)`` [Pa/m] (finite, see
+        :func:`~dolfinx_seal.contact.base.finite_slope`)."""
+        with np.errstate(over="ignore"):
+            return finite_slope(-self.alpha / self.h_rms * self.pressure(u))
 
     def separation(self, p: ArrayLike) -> FloatArray:
-        """``u = (h_rms/alpha) ln(beta E*/p)`` [m], ``p > 0``."""
-        pa = as_array("p", p, 0.0)
-        return self.h_rms / self.alpha * np.log(self.beta * self.e_star / pa)
+        """``u = (h_rms/alpha) ln(beta E*/p)`` [m] for ``0 < p <= beta E*`` [Pa].
+
+        The inverted asymptote reaches ``u = 0`` at ``p = beta E*`` and is negative
+        above, which no mean separation can be; such pressures raise
+        ParameterError (naming the pressure, ``p/E*`` and the bound ``beta E*``)
+        rather than returning a value.  A clamped ``u = 0`` was not chosen: it
+        is not the inverse (``pressure(0) = beta E* != p``) and would hide that
+        the law is used far outside its validity -- it is the small-pressure
+        asymptote (``p << beta E*``) of the full relation; for high pressures use
+        :class:`PerssonLaw`, whose ``separation`` is positive up to its ``p_max``
+        (of order ``E*``).
+        The extension of :meth:`pressure` to ``u < 0`` (for Newton overshoots) is
+        deliberately not inverted.
+        """
+        pa = as_array("p", p, 0.0, law=self.name, unit="Pa")
+        p_top = self.beta * self.e_star
+        bad = pa > p_top
+        if np.any(bad):
+            first = float(pa[bad].ravel()[0])
+            u_neg = math.log(p_top / first) / self.alpha  # in units of h_rms
+            raise ParameterError(
+                f"contact law {self.name!r}: p = {first:.6g} Pa (p/E* = {first / self.e_star:.3g})"
+                f" is outside the allowed range 0 < p <= beta E* = {p_top:.6g} Pa of separation"
+                f" (beta = {self.beta:.4g}): the inverted asymptote u = (h_rms/alpha)"
+                f" ln(beta E*/p) would be negative ({u_neg:.3g} h_rms); use the full"
+                " PerssonLaw at such pressures"
+            )
+        # p <= beta E* gives beta E*/p >= 1 exactly in floating point, so u >= 0
+        with np.errstate(over="ignore"):
+            u = np.array(self.h_rms / self.alpha * np.log(p_top / pa), dtype=float)
+        big = ~np.isfinite(u)  # beta E*/p overflows for denormal p
+        u[big] = self.h_rms / self.alpha * (math.log(p_top) - np.log(pa[big]))
+        return u if u.ndim else u[()]
 
     def area_fraction(self, p: ArrayLike) -> FloatArray:
+        """``A/A0`` at nominal contact pressure ``p >= 0`` [Pa] (needs ``rms_slope``)."""
         if not math.isfinite(self.rms_slope):
-            raise ParameterError("area_fraction needs rms_slope (construct with rms_slope=...)")
+            raise ParameterError(
+                f"contact law {self.name!r}: area_fraction needs rms_slope "
+                "(construct with rms_slope=...)"
+            )
         return super().area_fraction(p)
 
 
@@ -344,12 +432,19 @@ class ClosedFormPersson(ContactLaw):
     name: str = "persson-closed-form"
     rms_slope: float = float("nan")
 
+    def __post_init__(self) -> None:
+        # p > 0 and finite for every u > 0 needs these signs (c >= 0: ln(1 + c/x) real)
+        for key in ("alpha", "beta", "e_star", "h_rms"):
+            setattr(self, key, check_positive(key, getattr(self, key)))
+        for key in ("m", "c", "a", "b"):
+            setattr(self, key, check_nonnegative(key, getattr(self, key)))
+
     def area_fraction(self, p: ArrayLike) -> FloatArray:
         """``A/A0 = erf(sqrt 2 p / (E* slope))`` at nominal pressure ``p >= 0`` [Pa],
         the relation the FEM forms use (:func:`~dolfinx_seal.solid.asperity.area_fraction`)."""
         if not (math.isfinite(self.rms_slope) and self.rms_slope > 0):
             return super().area_fraction(p)
-        pa = as_array("p", p, 0.0, lo_open=False)
+        pa = as_array("p", p, 0.0, lo_open=False, law=self.name, unit="Pa")
         return erf(math.sqrt(2.0) * pa / (self.e_star * self.rms_slope))
 
     def formula(
@@ -361,16 +456,37 @@ class ClosedFormPersson(ContactLaw):
         return self.beta * self.e_star * exp(expo)
 
     def pressure(self, u: ArrayLike) -> FloatArray:
-        """``p(u)`` [Pa], ``u > 0``."""
-        return self.formula(as_array("u", u, 0.0))
+        """``p(u)`` [Pa], ``u > 0`` [m]: :meth:`formula`, finite for every ``u > 0``.
+
+        Where the formula overflows (``u`` below ~1e-300 h_rms, denormal
+        separations) ``ln p`` is evaluated as ``... + m (ln(x + c) - ln x)`` and
+        capped at 700 (``p ~ 1e304`` Pa), as in :class:`PerssonExponentialLaw`.
+        Far from contact ``p`` may underflow to 0.
+        """
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            p = np.array(self.formula(ua), dtype=float)
+        bad = ~np.isfinite(p)
+        if np.any(bad):
+            x = ua[bad] / self.h_rms
+            lnp = (
+                math.log(self.beta * self.e_star)
+                - self.alpha * x
+                + self.m * (np.log(x + self.c) - np.log(x))
+                - self.a * np.exp(-self.b * x * x)
+            )
+            p[bad] = np.exp(np.minimum(lnp, _EXP_CAP))
+        return p if p.ndim else p[()]
 
     def dpressure_du(self, u: ArrayLike) -> FloatArray:
-        """Exact derivative [Pa/m]."""
-        ua = as_array("u", u, 0.0)
+        """Exact derivative [Pa/m], ``u > 0`` [m] (finite, see
+        :func:`~dolfinx_seal.contact.base.finite_slope`)."""
+        ua = as_array("u", u, 0.0, law=self.name, unit="m")
         x = ua / self.h_rms
-        dlog = (
-            -self.alpha
-            - self.m * self.c / (x * (x + self.c))
-            + 2.0 * self.a * self.b * x * np.exp(-self.b * x * x)
-        )
-        return self.formula(ua) * dlog / self.h_rms
+        with np.errstate(over="ignore", divide="ignore", under="ignore"):
+            dlog = (
+                -self.alpha
+                - self.m * self.c / (x * (x + self.c))
+                + 2.0 * self.a * self.b * x * np.exp(-self.b * x * x)
+            )
+            return finite_slope(self.pressure(ua) * dlog / self.h_rms)

@@ -24,9 +24,23 @@ Notation (S1 section 4, S3 section V, appendices B-C; SI units):
   limit is ``p0`` for every ``q``.
 
 The ``q`` integral has an integrable ``(q - zeta q_L)^{-1/2}`` singularity of
-``w``; it is removed by ``q = q_lo + (q_a - q_lo) tau^2`` on the first interval
-and the rest is integrated in ``ln q`` with composite Gauss-Legendre panels that
+``w`` at its lower end ``q_lo = zeta q_L``.  On the first interval ``[q_lo,
+q_a]``, ``q_a = min(2 q_lo, next spectrum node, q1)``, it is removed by the
+substitution ``q = q_lo + (q_a - q_lo) tau^6`` (``_TAU_POWER = 6``; ``n_tau``
+Gauss-Legendre points in ``tau`` on ``[0, 1]``, ``dq = 6 (q_a - q_lo) tau^5
+dtau``), with the inner integral ``int_{q_lo}^{q} q'^3 C dq'`` of ``w`` evaluated
+in closed form for the local power law.  Then ``w ~ tau^-3`` and the integrand
+in ``tau`` behaves at worst as ``tau^2 ln tau`` (the ``ln w`` of ``F`` in the
+``p -> 0`` asymptote; for ``p > 0``, ``F(w p/E*)`` decays as ``w`` grows), smooth
+enough for Gauss points (``tau^2`` would leave a ``ln tau`` singularity).
+The rest is integrated in ``ln q`` with composite Gauss-Legendre panels that
 break at every node of the piecewise power-law spectrum.
+
+Domains: :meth:`PerssonTheory.area_fraction` takes ``p >= 0`` and gives
+``0 <= A/A0 <= 1``; :meth:`PerssonTheory.mean_separation` takes ``p > 0`` and
+gives finite ``u >= 0`` (0 once it underflows: from about 1.6, 6.3 and 63 ``E*`` for
+H = 0.95, 0.8 and 0.6 on the S1 spectrum);
+other inputs raise ParameterError naming the quantity, the value and the range.
 """
 
 from __future__ import annotations
@@ -41,6 +55,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 from scipy.special import erf, erfc, exp1
 
+from dolfinx_seal.contact.base import as_array
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.roughness.psd import PowerSpectrum
@@ -53,6 +68,8 @@ _J_XMAX = 6.5
 #: the integrand behaves as ``tau^(m/2 - 1) ln tau`` there, smooth enough for Gauss
 #: points when m = 6.
 _TAU_POWER = 6
+#: Below this ``x0``, ``x0^2`` underflows: :func:`separation_kernel` uses the series of E1.
+_X_SMALL = math.sqrt(np.finfo(float).tiny)
 
 
 @lru_cache(maxsize=1)
@@ -76,15 +93,29 @@ def j_integral(x0: ArrayLike) -> FloatArray:
     big = x > _J_XMAX
     out = np.empty_like(x)
     out[~big] = np.exp(spl(np.maximum(x[~big], 0.0)))
-    out[big] = 0.5 * exp1(x[big] ** 2)
+    with np.errstate(over="ignore"):  # x^2 = inf: J = 0
+        out[big] = 0.5 * exp1(x[big] ** 2)
     return out
 
 
-def separation_kernel(x0: ArrayLike, gamma: float) -> FloatArray:
-    """``F(x0) = gamma E1(x0^2)/2 + 3 (1 - gamma) J(x0)`` (see the module docstring)."""
+def separation_kernel(
+    x0: ArrayLike, gamma: float, ln_x0: ArrayLike | None = None
+) -> FloatArray:
+    """``F(x0) = gamma E1(x0^2)/2 + 3 (1 - gamma) J(x0)`` (see the module docstring).
+
+    Where ``x0^2`` would underflow (``x0 < 1.5e-154``, pressures below ~1e-140
+    Pa) the exact small-argument form ``E1(y) = -gamma_E - ln y`` (the next term,
+    ``y``, is below rounding) keeps ``F`` finite, with ``ln x0`` from ``ln_x0``
+    when given (``x0`` itself may have underflowed to 0); else ``F(0) = inf``.
+    """
     x = np.asarray(x0, dtype=float)
     with np.errstate(over="ignore"):
-        e1 = np.where(x > 0, 0.5 * exp1(np.maximum(x, 1e-300) ** 2), np.inf)
+        e1 = 0.5 * exp1(np.maximum(x, _X_SMALL) ** 2)
+    small = x < _X_SMALL
+    if np.any(small):
+        with np.errstate(divide="ignore"):
+            lx = np.log(np.maximum(x, 0.0)) if ln_x0 is None else np.asarray(ln_x0, float)
+        e1 = np.where(small, -0.5 * np.euler_gamma - lx, e1)
     return gamma * e1 + 3.0 * (1.0 - gamma) * j_integral(x)
 
 
@@ -216,9 +247,7 @@ class PerssonTheory:
 
     def area_fraction(self, p: ArrayLike, zeta: ArrayLike | None = None) -> FloatArray:
         """``A(zeta)/A0 = erf(p / (2 G^{1/2}))`` for nominal pressure ``p`` [Pa] (default q = q1)."""
-        pa = np.asarray(p, dtype=float)
-        if np.any(~np.isfinite(pa)) or np.any(pa < 0):
-            raise ParameterError("p must be finite and >= 0 (Pa)")
+        pa = as_array("p", p, 0.0, lo_open=False, law="persson-theory", unit="Pa")
         g = self.g_function(self.zeta_max if zeta is None else zeta)
         with np.errstate(divide="ignore"):
             return erf(pa / (2.0 * np.sqrt(g)))
@@ -245,7 +274,8 @@ class PerssonTheory:
         q_hi = psd.q_max
         nxt = psd.q_nodes[psd.q_nodes > q_lo * (1.0 + 1e-12)]
         q_a = min(2.0 * q_lo, float(nxt[0]) if nxt.size else q_hi, q_hi)
-        # singular interval: q = q_lo + (q_a - q_lo) tau^2, exact local int q^3 C
+        # singular interval: q = q_lo + (q_a - q_lo) tau^m (m = _TAU_POWER = 6),
+        # tau in [0, 1]; w from the exact local int q^3 C of the power-law segment
         t, wt = self._tau
         tau = 0.5 * (t + 1.0)
         m = _TAU_POWER
@@ -282,6 +312,12 @@ class PerssonTheory:
         q = np.concatenate(qs)
         return q, np.concatenate(ws) * q**2 * psd(q), np.concatenate(ww)
 
+    def _ln_x0(self, x0: FloatArray, p: FloatArray, w: FloatArray) -> FloatArray | None:
+        """``ln(w p / E*)`` without underflow, where ``x0`` is tiny (else None)."""
+        if np.min(x0) >= _X_SMALL:
+            return None
+        return np.log(p)[:, None] - math.log(self.e_star) + np.log(w)[None, :]
+
     def mean_separation(self, pressure: ArrayLike, zeta: float = 1.0) -> FloatArray:
         """Mean separation ``u(zeta, P)`` [m] in the apparent contact area at magnification zeta.
 
@@ -290,17 +326,17 @@ class PerssonTheory:
                 (the nominal pressure ``p0`` at ``zeta = 1``); any shape, ``> 0``.
             zeta: Magnification ``1 <= zeta < zeta_max``.
         """
-        pa = np.asarray(pressure, dtype=float)
-        if np.any(~np.isfinite(pa)) or np.any(pa <= 0):
-            raise ParameterError("pressure must be finite and > 0 (Pa)")
+        pa = as_array("pressure", pressure, 0.0, law="persson-theory", unit="Pa")
         z = check_range("zeta", zeta, 1.0, self.zeta_max, hi_open=True)
         q, wq, w = self._nodes(z)
         out = np.empty(pa.size)
         flat = pa.ravel()
         step = max(1, 2_000_000 // q.size)
         for s in range(0, flat.size, step):
-            x0 = np.outer(flat[s : s + step] / self.e_star, w)
-            out[s : s + step] = separation_kernel(x0, self.gamma) @ (wq * w)
+            chunk = flat[s : s + step]
+            x0 = np.outer(chunk / self.e_star, w)
+            kern = separation_kernel(x0, self.gamma, self._ln_x0(x0, chunk, w))
+            out[s : s + step] = kern @ (wq * w)
         return math.sqrt(math.pi) * out.reshape(pa.shape)
 
     def separation_rows(self, zetas: ArrayLike, pressures: ArrayLike) -> FloatArray:
@@ -312,13 +348,12 @@ class PerssonTheory:
         """
         z = np.asarray(zetas, dtype=float).ravel()
         pa = np.broadcast_to(np.asarray(pressures, dtype=float), (z.size, np.shape(pressures)[-1]))
-        if np.any(~np.isfinite(pa)) or np.any(pa <= 0):
-            raise ParameterError("pressure must be finite and > 0 (Pa)")
+        as_array("pressure", pa, 0.0, law="persson-theory", unit="Pa")
         out = np.empty(pa.shape)
         for i, zi in enumerate(z):
             _q, wq, w = self._nodes(float(zi))
             x0 = np.outer(pa[i] / self.e_star, w)
-            out[i] = separation_kernel(x0, self.gamma) @ (wq * w)
+            out[i] = separation_kernel(x0, self.gamma, self._ln_x0(x0, pa[i], w)) @ (wq * w)
         return math.sqrt(math.pi) * out
 
     def profile(self, pressures: ArrayLike, zetas: ArrayLike) -> MagnificationProfile:
