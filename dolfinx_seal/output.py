@@ -80,9 +80,7 @@ def results_table(results: Mapping[str, Any], path: str | Path | None = None) ->
     """
     shown = [k for k in RESULTS if k in results and _is_scalar(results[k])]
     rest = [
-        k
-        for k, v in results.items()
-        if k not in RESULTS and _is_scalar(v) and k not in ("scene",)
+        k for k, v in results.items() if k not in RESULTS and _is_scalar(v) and k not in ("scene",)
     ]
     lines = []
     if shown:

@@ -112,8 +112,10 @@ class PatirCheng:
         if np.any(tiny):
             ht = hl[tiny]
             e = np.exp(-_PC_A2E * ht + _PC_A3E * ht * ht)
-            d[tiny] = _PC_A1 * e * (
-                _PC_A1E * ht ** (_PC_A1E - 1.0) + ht**_PC_A1E * (-_PC_A2E + 2.0 * _PC_A3E * ht)
+            d[tiny] = (
+                _PC_A1
+                * e
+                * (_PC_A1E * ht ** (_PC_A1E - 1.0) + ht**_PC_A1E * (-_PC_A2E + 2.0 * _PC_A3E * ht))
             )
         out[low] = d
         out[~low] = -0.25 * _PC_A2 * np.exp(-0.25 * h[~low])

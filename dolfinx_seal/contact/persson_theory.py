@@ -98,9 +98,7 @@ def j_integral(x0: ArrayLike) -> FloatArray:
     return out
 
 
-def separation_kernel(
-    x0: ArrayLike, gamma: float, ln_x0: ArrayLike | None = None
-) -> FloatArray:
+def separation_kernel(x0: ArrayLike, gamma: float, ln_x0: ArrayLike | None = None) -> FloatArray:
     """``F(x0) = gamma E1(x0^2)/2 + 3 (1 - gamma) J(x0)`` (see the module docstring).
 
     Where ``x0^2`` would underflow (``x0 < 1.5e-154``, pressures below ~1e-140

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from mpi4py import MPI
 
-from dolfinx_seal.errors import SolverError
+from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_int_range, check_positive, check_range
 
@@ -95,10 +95,22 @@ def speed_sweep(
     """
     st = stepping or SpeedStepping()
     for target in speeds:
-        check_positive("speed", target, "m/s")
+        if not (math.isfinite(target) and target != 0.0):
+            raise ParameterError(f"film.speed = {target!r} m/s: a sweep target must be non-zero")
+    # a chain keeps one sign (a rod's out-stroke or in-stroke): steps in log |speed|
+    signs = {math.copysign(1.0, float(t)) for t in speeds} | {
+        math.copysign(1.0, float(prob.film.speed.value))
+    }
+    if len(signs) > 1:
+        raise ParameterError(
+            "film.speed: a continuation chain cannot change the sliding direction; "
+            "sweep each direction from its own start"
+        )
     film = prob.film
     # the last two converged (log10 speed, state): a secant predictor in log speed
-    history: list[tuple[float, list[Any]]] = [(math.log10(float(film.speed.value)), prob._state())]
+    history: list[tuple[float, list[Any]]] = [
+        (math.log10(abs(float(film.speed.value))), prob._state())
+    ]
     presolver = FilmPresolver(prob) if st.film_presolve else None
     try:
         return _walk(prob, speeds, on_point, results, st, history, presolver)
@@ -160,7 +172,7 @@ def _walk(
             if s_try != target:
                 rec.intermediate.append(s_try)
             current = s_try
-            history = [history[-1], (math.log10(s_try), prob._state())]
+            history = [history[-1], (math.log10(abs(s_try)), prob._state())]
             if hist.newton_iterations <= st.easy:
                 step = min(step * st.grow, st.max_decades)
         rec.wall_time_s = time.perf_counter() - t0
@@ -219,7 +231,7 @@ def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], spee
     state is the last of them).  With a Newton gap-closure rule on the problem the
     predictor is shortened to obey it (:func:`_safeguard_predictor`)."""
     (la, sa), (lb, sb) = history
-    r = (math.log10(speed) - lb) / (lb - la)
+    r = (math.log10(abs(speed)) - lb) / (lb - la)
     pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
     closure = getattr(prob, "max_gap_closure", None)
     if closure:

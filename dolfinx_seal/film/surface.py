@@ -84,7 +84,9 @@ class FilmParams:
     Attributes:
         viscosity: Dynamic viscosity eta [Pa s] (S1: 0.1).
         speed: Sliding speed U of the counter-surface under the rubber at rest
-            [m/s]; the mean surface velocity is U/2.  0: no Couette term.
+            [m/s], signed along the sliding direction (negative: the counter-surface
+            moves the other way, e.g. the in-stroke of a rod); the mean surface
+            velocity is U/2.  0: no Couette term.
         cavitation: ``none``, ``reynolds`` (p >= 0) or ``jfo`` (mass-conserving).
         flow_factor: Pressure flow factor of the homogenised roughness:
             ``none`` (phi_p = 1), ``patir-cheng`` or ``persson`` (the
@@ -116,7 +118,7 @@ class FilmParams:
 
     def __post_init__(self) -> None:
         check_positive("film.viscosity", self.viscosity, "Pa s")
-        check_range("film.speed", self.speed, 0.0, 1e3, unit="m/s")
+        check_range("film.speed", self.speed, -1e3, 1e3, unit="m/s")
         check_choice("film.cavitation", self.cavitation, CAVITATION_MODELS)
         check_choice("film.flow_factor", self.flow_factor, FLOW_FACTORS)
         check_range("film.upstream", self.upstream, 1.0, 100.0)
@@ -185,6 +187,16 @@ class FilmContext:
         e_n: Unit normal of the counter-surface pointing into the body (3-vector).
         sliding: Unit sliding direction of the counter-surface (3-vector).
         quadrature_degree: Quadrature degree of the film integrals (None: UFL's estimate).
+        edge_axis: Direction (3-vector of floats) that orders the edges of the
+            lubricated zone: ``inlet_pressure`` acts on the edge at its low end,
+            ``outlet_pressure`` on the high end (None: the sliding direction).  A
+            seal's film has its oil side low and its air side high along the
+            axis, whichever way the shaft moves.
+        transport: Whether the sliding moves fluid across the lubricated zone (the
+            Couette flux in the Reynolds equation).  False where the sliding is
+            normal to every surface gradient (a turning shaft under an
+            axisymmetric lip): the Couette shear still acts, the flux term is not
+            assembled.
     """
 
     mesh: dolfinx.mesh.Mesh
@@ -199,6 +211,8 @@ class FilmContext:
     e_n: Any
     sliding: Any
     quadrature_degree: int | None = None
+    edge_axis: Any = None
+    transport: bool = True
 
 
 class SurfaceFilm:
@@ -243,8 +257,9 @@ class SurfaceFilm:
         self.h_rms = check_positive("h_rms", h_rms, "m")
         self.rms_slope, self.e_star = rms_slope, e_star
         self.no_flux_tags = tuple(no_flux_tags)
-        self.has_couette = params.speed > 0.0
+        self.has_couette = params.speed != 0.0
         self.has_theta = params.cavitation == "jfo"
+        self.has_transport = self.has_couette  # set from the context in attach
 
     # ------------------------------------------------------------------ set-up
     def attach(self, ctx: FilmContext, p_cont: Any = None) -> None:
@@ -252,6 +267,7 @@ class SurfaceFilm:
         pr, sc = self.params, self.scales
         mesh = ctx.mesh
         self.ctx = ctx
+        self.has_transport = self.has_couette and ctx.transport
         S = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
         self.S = S
         self.P = dolfinx.fem.Function(S, name="fluid_pressure_scaled")
@@ -277,12 +293,14 @@ class SurfaceFilm:
             phi_p = 1.0 - self.flow_factor_weight * (1.0 - phi_p)
         self.conductivity = phi_p * self.g**3 / (12.0 * pr.viscosity)  # m^3/(Pa s)
         self.speed = dolfinx.fem.Constant(mesh, float(pr.speed))
+        # +1 / -1: the counter-surface slides along / against ``sliding`` (asperity drag)
+        self.direction = dolfinx.fem.Constant(mesh, 1.0 if pr.speed >= 0.0 else -1.0)
         t = ctx.sliding - ufl.dot(ctx.sliding, self.n) * self.n
         self.t = t / ufl.sqrt(ufl.dot(t, t))  # current tangent along the sliding direction
         self.U_m = 0.5 * self.speed * self.t  # projected mean velocity [m/s]
 
         # row weight: flux residual [m^2/s] -> nodal force scale [N/m]
-        u_ref = max(pr.speed, 1e-300)
+        u_ref = max(abs(pr.speed), 1e-300) if self.has_transport else 1e-300
         q_ref = sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length) + 0.5 * u_ref * sc.gap
         self.row_weight = dolfinx.fem.Constant(mesh, sc.pressure * sc.element / q_ref)
         self._q_ref_parts = (sc.gap**3 * sc.pressure / (12.0 * pr.viscosity * sc.length), sc.gap)
@@ -301,12 +319,12 @@ class SurfaceFilm:
         grad_q = self.surface_grad(q)
         R = self.conductivity * sc.pressure * ufl.dot(self.surface_grad(self.P), grad_q) * self.da
         R = R * self.ds
-        if self.has_couette:
+        if self.has_transport:
             # one-point quadrature + streamline diffusion h/(2|U_m|): full upwinding of theta
             R += -self.g * self.theta * ufl.dot(self.U_m, grad_q) * self.da * self.ds1
             if self.has_theta:
                 h_e = self._element_size(mesh)
-                Um_abs = 0.5 * self.speed
+                Um_abs = 0.5 * abs(self.speed)
                 R += (
                     h_e
                     / (2.0 * Um_abs)
@@ -344,21 +362,56 @@ class SurfaceFilm:
     def _boundary_pressure(self, ctx: FilmContext, edge: np.ndarray) -> dolfinx.fem.Function:
         """Scaled boundary pressure: inlet value on upstream edge dofs, outlet downstream, 0 off the film."""
         f = dolfinx.fem.Function(self.S)
-        pr = self.params
-        if pr.inlet_pressure == 0.0 and pr.outlet_pressure == 0.0:
-            return f
+        self.boundary_values = f
+        self._edges = self._split_edges(ctx, edge)
+        self.set_edge_pressures(self.params.inlet_pressure, self.params.outlet_pressure)
+        return f
+
+    def _split_edges(self, ctx: FilmContext, edge: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Edge dofs (owned and ghost) at the low and at the high end of the zone
+        along :attr:`FilmContext.edge_axis` (default the sliding direction)."""
         gdim = ctx.mesh.geometry.dim
-        e = np.array([float(ctx.sliding[i]) for i in range(gdim)])
+        axis = ctx.sliding if ctx.edge_axis is None else ctx.edge_axis
+        e = np.array([float(axis[i]) for i in range(gdim)])
         s = self.S.tabulate_dof_coordinates()[:, :gdim] @ e
         comm = ctx.mesh.comm
         lo = comm.allreduce(float(s[edge].min(initial=np.inf)), op=MPI.MIN)
         hi = comm.allreduce(float(s[edge].max(initial=-np.inf)), op=MPI.MAX)
         mid = 0.5 * (lo + hi)
-        up = edge[s[edge] < mid]
-        down = edge[s[edge] >= mid]
-        f.x.array[up] = pr.inlet_pressure / self.scales.pressure
-        f.x.array[down] = pr.outlet_pressure / self.scales.pressure
-        return f
+        return edge[s[edge] < mid], edge[s[edge] >= mid]
+
+    def set_edge_pressures(self, low: float, high: float) -> None:
+        """Pressures [Pa] on the low (inlet) and high (outlet) edges of the zone."""
+        f, (up, down) = self.boundary_values, self._edges
+        f.x.array[:] = 0.0
+        f.x.array[up] = low / self.scales.pressure
+        f.x.array[down] = high / self.scales.pressure
+        f.x.scatter_forward()  # the Dirichlet condition reads f at the next solve
+
+    def edge_flows(self) -> tuple[float, float]:
+        """Volumetric flows [m^3/s, totals over the kinematics weight] out of the
+        lubricated zone through its low and its high edge (positive outwards).
+
+        The Reynolds row of an edge node, assembled without its Dirichlet
+        condition and unweighted, is minus the flux leaving through that node
+        (the boundary term of the weak form); the sums over each edge are the
+        two outflows, and their sum is the net mass balance of the zone.
+        """
+        R = dolfinx.fem.assemble_vector(self._flux_form())
+        R.scatter_reverse(dolfinx.la.InsertMode.add)
+        n = self.S.dofmap.index_map.size_local
+        w = float(self.row_weight.value)
+        comm = self.ctx.mesh.comm
+        out = []
+        for dofs in self._edges:
+            mine = dofs[dofs < n]
+            out.append(-comm.allreduce(float(R.array[mine].sum()), op=MPI.SUM) / w)
+        return out[0], out[1]
+
+    def _flux_form(self) -> Any:
+        if getattr(self, "_flux_compiled", None) is None:
+            self._flux_compiled = dolfinx.fem.form(self.R_P)
+        return self._flux_compiled
 
     def make_solver(
         self, options: Any, extra_blocks: Sequence[Any] = (), name: str = "film"
@@ -423,18 +476,22 @@ class SurfaceFilm:
         return g - ufl.dot(g, self.n) * self.n
 
     def set_speed(self, speed: float) -> None:
-        """Change the sliding speed U [m/s] (the film must have been built with U > 0)."""
+        """Change the sliding speed U [m/s], signed (the film must have been built
+        with U != 0; the sign may change only where the sliding transports no
+        fluid or the zone is long enough both ways)."""
         if not self.has_couette:
             raise ParameterError(
                 "film.speed: this film was built at zero speed (no Couette term); "
-                "build it with film.speed > 0 to sweep the speed"
+                "build it with film.speed != 0 to sweep the speed"
             )
-        check_range("film.speed", speed, 0.0, 1e3, lo_open=True, unit="m/s")
+        if speed == 0.0 or not math.isfinite(speed):
+            raise ParameterError(f"film.speed = {speed!r} m/s: must be finite and non-zero here")
+        check_range("film.speed", speed, -1e3, 1e3, unit="m/s")
         self.speed.value = float(speed)
+        self.direction.value = 1.0 if speed > 0.0 else -1.0
         poi, gap = self._q_ref_parts
-        self.row_weight.value = (
-            self.scales.pressure * self.scales.element / (poi + 0.5 * speed * gap)
-        )
+        couette = 0.5 * abs(speed) * gap if self.has_transport else 0.0
+        self.row_weight.value = self.scales.pressure * self.scales.element / (poi + couette)
 
     def set_pressure(self, pressure: Any) -> None:
         """Set the fluid pressure to a UFL expression [Pa] on the free film dofs
@@ -456,14 +513,16 @@ class SurfaceFilm:
         return tau
 
     def asperity_shear(self) -> Any:
-        """``sigma_1 A/A0`` [Pa] (0 without contact pressure or rms slope)."""
+        """``sigma_1 A/A0`` [Pa] along the sliding of the counter-surface (signed with
+        it; 0 without contact pressure or rms slope)."""
         if (
             self.p_cont is None
             or not math.isfinite(self.rms_slope)
             or self.params.asperity_shear == 0
         ):
             return 0.0
-        return self.params.asperity_shear * area_fraction(self.p_cont, self.e_star, self.rms_slope)
+        A = area_fraction(self.p_cont, self.e_star, self.rms_slope)
+        return self.direction * self.params.asperity_shear * A
 
     def friction_parts(self) -> dict[str, Any]:
         """Integrands (per reference area) of the friction force on the counter-surface [Pa].
@@ -545,12 +604,14 @@ class SurfaceFilm:
         fluxes [m^2/s]; on the edges of the lubricated zone they are the
         boundary in/outflows.  Returns ``max |R_i|`` over free nodes where the
         film is not cavitated under the Reynolds condition (there mass is not
-        conserved by construction), divided by the total inflow.  0 at zero
-        speed (no flow).
+        conserved by construction), divided by the total inflow.  0 without
+        flow (no transport and equal edge pressures).
         """
-        if not self.has_couette:
+        edge_p = np.abs(self.boundary_values.x.array[np.concatenate(self._edges)])
+        no_drive = edge_p.size == 0 or np.ptp(edge_p) == 0.0
+        if not self.has_transport and self.ctx.mesh.comm.allreduce(no_drive, op=MPI.LAND):
             return 0.0
-        R = dolfinx.fem.assemble_vector(dolfinx.fem.form(self.R_P))
+        R = dolfinx.fem.assemble_vector(self._flux_form())
         R.scatter_reverse(dolfinx.la.InsertMode.add)
         w = float(self.row_weight.value)
         r = R.array[: self.S.dofmap.index_map.size_local] / w

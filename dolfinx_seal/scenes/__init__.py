@@ -32,6 +32,7 @@ REGISTRY: dict[str, str] = {
     "cylinder": "dolfinx_seal.scenes.cylinder",
     "ball": "dolfinx_seal.scenes.ball",
     "lip-install": "dolfinx_seal.scenes.lip_install",
+    "lip": "dolfinx_seal.scenes.lip",
 }
 
 #: A point callback of a sweep: receives the sweep value and the results of the point.

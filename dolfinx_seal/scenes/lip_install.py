@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -95,8 +96,17 @@ class _LipProblem(SolidContactProblem):
 
     spring_scale: dolfinx.fem.Constant | None = None
     spring_fraction: float | None = None  # None: the spring follows the load fraction
+    #: when set, the load fraction ramps what it is given (e.g. the sealed pressures of
+    #: the lubricated lip) with the shaft at its nominal radius and the spring in full
+    pressure_ramp: Callable[[float], None] | None = None
 
     def set_fraction(self, t: float) -> None:
+        if self.pressure_ramp is not None:
+            super().set_fraction(1.0)
+            if self.spring_scale is not None:
+                self.spring_scale.value = 1.0
+            self.pressure_ramp(t)
+            return
         super().set_fraction(t)
         if self.spring_scale is not None:
             self.spring_scale.value = t if self.spring_fraction is None else self.spring_fraction
@@ -127,46 +137,89 @@ class Installation:
 def install(params: LipInstallParameters) -> Installation:
     """Build the lip problem and grow the shaft radius to its nominal value."""
     lp = params.lip
-    mat = params.material.build()
-    e_star = params.material.E_star
     # the Hertz-like approach scale of the stiff law: the interference itself
-    law, law_info = params.contact.build(params.roughness, e_star, approach=lp.interference)
+    law, law_info = params.contact.build(
+        params.roughness, params.material.E_star, approach=lp.interference
+    )
     tm = create_mesh("lip", lp, comm=COMM_WORLD)
-    r_tip = lp.shaft_radius - lp.interference
-
-    # the garter spring: a dead radial load on the groove, ramped with the shaft radius
-    spring_scale = dolfinx.fem.Constant(tm.mesh, 0.0)
     spring_info: dict[str, float] = {}
-
-    def spring(prob: SolidContactProblem) -> Any:
-        ds_g = prob.ds(tm.tag("spring_groove"))
-        # a ring of hoop tension T pulls inwards with T / r per unit of its circumference:
-        # 2 pi T in all, whatever its radius.  T = spring_load * r_g, r_g the mean radius
-        # of the undeformed groove; the load is spread over the groove as the radial part
-        # of a uniform pressure on its undeformed surface (N_r > 0: the groove bottom).
-        nr = ufl.max_value(prob.N3[0], 0.0)
-        area_r = prob.integrate(nr * prob.weight, ds_g)
-        r_g = prob.integrate(prob.X[0] * prob.weight, ds_g) / prob.integrate(prob.weight, ds_g)
-        tension = params.spring_load * r_g
-        spring_info.update(
-            spring_hoop_tension=tension, spring_force=2.0 * math.pi * tension, spring_radius=r_g
-        )
-        q = spring_scale * (2.0 * math.pi * tension / area_r) * nr  # inward, per reference area
-        return q * prob.v3[0] * prob.weight * ds_g
-
     # shaft radius grows from just inside the tip to its nominal value
-    start = r_tip - 0.02 * lp.interference
-    prob = _LipProblem(
-        tm.mesh, tm.facet_tags, Axisymmetric(), mat, Shaft(), law, tm.tag("contact"),
-        [Dirichlet(tm.tag("clamped"))], control="position", target=lp.shaft_radius,
-        position0=start, degree=params.degree, snes=SNESOptions(max_it=25), name="lip-install",
-        extra_residual=spring if params.spring_load > 0.0 else None,
-        max_step=0.5 * lp.h_contact,  # a Newton step moves no node more than half a contact element
-    )  # fmt: skip
-    prob.spring_scale = spring_scale
+    start = lp.shaft_radius - lp.interference - 0.02 * lp.interference
+    prob = build_problem(params, tm, law, spring_info, position0=start)
     t1 = time.perf_counter()
     prob.ramp(SteppingOptions(first=0.02, grow=1.5, easy=8, max_steps=400, predictor=True))
     return Installation(prob, tm, law_info, spring_info, time.perf_counter() - t1)
+
+
+def build_problem(
+    params: LipInstallParameters,
+    tm: Any,
+    law: Any,
+    spring_info: dict[str, float],
+    *,
+    position0: float,
+    film: Any = None,
+    counter: Shaft | None = None,
+    extra_terms: Sequence[Callable[[SolidContactProblem], Any]] = (),
+    snes: SNESOptions | None = None,
+    name: str = "lip-install",
+    max_step: float | None = None,
+) -> _LipProblem:
+    """The lip on its shaft under position control (the shaft radius ramps from
+    ``position0`` to its nominal value with the load fraction), with the garter
+    spring (:func:`spring_work`), an optional film on the contact band and
+    further named boundary terms ``extra_terms`` (each ``f(problem) -> ufl.Form``,
+    added to the displacement residual).  ``spring_info`` receives the spring's
+    tension, force and radius.  A Newton step moves no node more than ``max_step``
+    [m] (default half a contact element) and none radially (towards the shaft)
+    more than half a contact element."""
+    lp = params.lip
+    spring_scale = dolfinx.fem.Constant(tm.mesh, 0.0)
+    terms = list(extra_terms)
+    if params.spring_load > 0.0:
+        terms.insert(0, lambda prob: spring_work(prob, tm, params.spring_load, spring_scale,
+                                                 spring_info))  # fmt: skip
+
+    def extra(prob: SolidContactProblem) -> Any:
+        forms = [t(prob) for t in terms]
+        return sum(forms[1:], forms[0]) if forms else None
+
+    prob = _LipProblem(
+        tm.mesh, tm.facet_tags, Axisymmetric(), params.material.build(), counter or Shaft(), law,
+        tm.tag("contact"), [Dirichlet(tm.tag("clamped"))], control="position",
+        target=lp.shaft_radius, position0=position0, degree=params.degree,
+        snes=snes or SNESOptions(max_it=25), name=name, extra_residual=extra if terms else None,
+        max_step=max_step or 0.5 * lp.h_contact, max_normal_step=0.5 * lp.h_contact, film=film,
+    )  # fmt: skip
+    prob.spring_scale = spring_scale
+    return prob
+
+
+def spring_work(
+    prob: SolidContactProblem,
+    tm: Any,
+    spring_load: float,
+    scale: dolfinx.fem.Constant,
+    info: dict[str, float],
+) -> Any:
+    """Virtual work of the garter spring on the groove (a residual term) [J per unit test].
+
+    A ring of hoop tension ``T`` pulls inwards with ``T / r`` per unit of its
+    circumference: ``2 pi T`` in all, whatever its radius.  ``T = spring_load *
+    r_g``, ``r_g`` the mean radius of the undeformed groove; the load is spread
+    over the groove as the radial part of a uniform pressure on its undeformed
+    surface (``N_r > 0``: the groove bottom), a dead load scaled by ``scale``.
+    """
+    ds_g = prob.ds(tm.tag("spring_groove"))
+    nr = ufl.max_value(prob.N3[0], 0.0)
+    area_r = prob.integrate(nr * prob.weight, ds_g)
+    r_g = prob.integrate(prob.X[0] * prob.weight, ds_g) / prob.integrate(prob.weight, ds_g)
+    tension = spring_load * r_g
+    info.update(
+        spring_hoop_tension=tension, spring_force=2.0 * math.pi * tension, spring_radius=r_g
+    )
+    q = scale * (2.0 * math.pi * tension / area_r) * nr  # inward, per reference area
+    return q * prob.v3[0] * prob.weight * ds_g
 
 
 def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
@@ -187,7 +240,7 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
     order = np.argsort(z)
     z, p, xr = z[order], p[order], xr[order]
     pmax = float(p.max())
-    width, z_mean = _moment_width(prob)
+    width, z_mean = moment_width(prob)
     # the lip outside the contact band must stay off the shaft (no contact law there)
     min_gap = min(
         float(prob.surface_values(prob.gap, tag=tm.tag(side))[1].min())
@@ -264,7 +317,7 @@ def radial_balance(prob: SolidContactProblem, clamped: int) -> tuple[float, floa
     return out[0], out[1]
 
 
-def _moment_width(prob: SolidContactProblem) -> tuple[float, float]:
+def moment_width(prob: SolidContactProblem) -> tuple[float, float]:
     """Contact width and centre from the moments of the radial contact force density.
 
     ``w = sqrt(12 <(z - <z>)^2>)``: the width of the uniform pressure band with the
@@ -316,4 +369,13 @@ SCENE = Scene(
     run=run,
 )
 
-__all__ = ["SCENE", "Installation", "LipInstallParameters", "install", "radial_balance"]
+__all__ = [
+    "SCENE",
+    "Installation",
+    "LipInstallParameters",
+    "build_problem",
+    "install",
+    "moment_width",
+    "radial_balance",
+    "spring_work",
+]

@@ -271,10 +271,17 @@ class SolidContactProblem:
         # the lubricating film (optional): its unknowns, residuals and tractions
         self.film = film
         if film is not None:
+            # the counter-surface says how it slides (a shaft: along the hoop or the axis)
+            if hasattr(counter, "sliding_direction"):
+                sliding = counter.sliding_direction()
+            else:
+                sliding = _unit(gdim, sliding_axis)
             film.attach(
                 FilmContext(
                     mesh, facet_tags, contact_tag, self.x, self.F, self.N3, self.weight,
-                    self.gap, kinematics.vector3, self.e_n, _unit(gdim, sliding_axis), sqd,
+                    self.gap, kinematics.vector3, self.e_n, sliding, sqd,
+                    edge_axis=getattr(counter, "edge_axis", lambda: None)(),
+                    transport=getattr(counter, "transports", True),
                 ),
                 p_cont=self.p_cont,
             )  # fmt: skip

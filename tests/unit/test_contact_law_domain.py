@@ -344,7 +344,7 @@ def test_log_hermite_table_rejects_a_table_outside_0_1():
     with pytest.raises(ParameterError, match=r"phi = 1\.16.*allowed range \[0, 1\]"):
         LogHermiteTable(s, [0.5, 0.95], [0.0, -2.0], H_RMS)
     # a negative first slope: phi_0 (H/H_0)^k would grow without bound as u -> 0
-    with pytest.raises(ParameterError, match="dphi/ds = -0.1"):
+    with pytest.raises(ParameterError, match=r"dphi/ds = -0\.1"):
         LogHermiteTable(s, [0.5, 0.6], [-0.1, 0.1], H_RMS)
     ok = LogHermiteTable(s, [0.5, 0.95], [0.1, 0.2], H_RMS)
     assert 0.0 < ok(np.array([1e-300]))[0] <= 0.5

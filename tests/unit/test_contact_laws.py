@@ -77,7 +77,10 @@ def test_exponential_law_closed_form_and_cap(law):
         ex.pressure(u), ex.beta * E_STAR * np.exp(-ex.alpha * u / 1e-6), rtol=1e-14
     )
     np.testing.assert_allclose(ex.dpressure_du(u), -ex.alpha / 1e-6 * ex.pressure(u), rtol=1e-14)
-    np.testing.assert_allclose(ex.separation(ex.pressure(u)), u, atol=1e-20)
+    up = u[u >= 0]  # the inverse is the mean separation, u >= 0 (p <= beta E*)
+    np.testing.assert_allclose(ex.separation(ex.pressure(up)), up, atol=1e-20)
+    with pytest.raises(ParameterError, match="beta E"):
+        ex.separation(ex.pressure(u[u < 0]))
     assert np.isfinite(ex.pressure(np.array([-1.0]))).all()  # exponent capped, no overflow
     with pytest.raises(ParameterError, match="alpha"):
         PerssonExponentialLaw(-1.0, 0.1, E_STAR, 1e-6)
@@ -205,10 +208,12 @@ def test_greenwood_williamson_laws():
         )
         np.testing.assert_allclose(m.separation(m.pressure(u)), u, atol=1e-15)
     # exponential: A/A0 proportional to p (S2 eqs 24-25), ratio sqrt(pi) (R/sigma)^(1/2) / E*
-    p = expo.pressure(u)
+    p = expo.pressure(u[u >= expo.u_full])
     np.testing.assert_allclose(
         expo.area_fraction(p) / p, math.sqrt(math.pi * r / s) / E_STAR, rtol=1e-12
     )
+    with pytest.raises(ParameterError, match="p_full"):
+        expo.area_fraction(expo.pressure(np.array([0.0])))
     with pytest.raises(ParameterError, match="distribution"):
         GreenwoodWilliamson(eta, r, s, E_STAR, "weibull")
     with pytest.raises(ParameterError, match="summit_radius"):
@@ -227,10 +232,14 @@ def test_greenwood_tripp():
         gt.dpressure_du(u), (gt.pressure(u + 1e-12) - gt.pressure(u - 1e-12)) / 2e-12, rtol=1e-5
     )
     np.testing.assert_allclose(gt.separation(gt.pressure(u)), u, atol=1e-15)
-    a = gt.area_fraction(gt.pressure(u))
+    a = gt.area_fraction(gt.pressure(u[1:]))
     np.testing.assert_allclose(
-        a, math.pi**2 * (eta * beta * s) ** 2 * np.array([fn_quad(2.0, x) for x in lam]), rtol=1e-9
+        a,
+        math.pi**2 * (eta * beta * s) ** 2 * np.array([fn_quad(2.0, x) for x in lam[1:]]),
+        rtol=1e-9,
     )
+    with pytest.raises(ParameterError, match="p_full"):
+        gt.area_fraction(gt.pressure(u[:1]))
 
 
 @pytest.mark.parametrize("t", [3.0, 5.0, 8.0])

@@ -61,7 +61,7 @@ def test_the_warnings_exist_and_the_capture_sees_them(tmp_path, capfd, monkeypat
 def test_a_failing_compilation_still_raises_with_the_compiler_error(tmp_path, capfd, monkeypatch):
     monkeypatch.delenv(compat.JIT_WARNINGS_ENV, raising=False)
     capfd.readouterr()
-    with pytest.raises(Exception, match="failed|rror"):
+    with pytest.raises(Exception, match=r"failed|rror"):
         _fresh_form(tmp_path / "cache", ["-include", "dolfinx_seal_no_such_header.h"])
     _, err = capfd.readouterr()
     assert "dolfinx_seal_no_such_header.h" in err and "error" in err
