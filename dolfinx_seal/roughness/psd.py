@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_positive, check_range
+from dolfinx_seal.params import check_choice, check_nonnegative, check_positive, check_range
 
 FloatArray = NDArray[np.float64]
 
@@ -281,16 +281,25 @@ def read_psd_table(path: str | Path) -> PowerSpectrum:
 
 @dataclass(frozen=True)
 class RoughnessParams:
-    """Roughness of a scene: a self-affine model or a measured PSD file (SI units).
+    """Roughness of a scene: a self-affine model, a measured PSD file or a height map (SI units).
 
     Attributes:
-        h_rms: Root-mean-square roughness [m] (ignored when ``psd_file`` is set).
+        h_rms: Root-mean-square roughness [m] (ignored when ``psd_file`` or
+            ``topography_file`` is set).
         hurst: Hurst exponent ``H = 3 - D_f``, ``0 < H < 1``.
         q0: Roll-off / lower cut-off wavevector [1/m].
         q1: Upper cut-off wavevector [1/m].
         q_r: Lower end of a roll-off plateau [1/m]; 0 for none.
         psd_file: Optional path of a measured ``(q, C)`` table; when set it replaces
             the model (``h_rms``, ``hurst``, ``q0``, ``q1``, ``q_r`` are then unused).
+        topography_file: Optional path of a measured height map (text rows of heights
+            in metres, or ``.npy``; other formats through SurfaceTopography when it is
+            installed); when set, its PSD replaces the model as ``psd_file`` does (the
+            two are exclusive).
+        pixel_size: Pixel size [m] of ``topography_file``; required (> 0) with it,
+            ignored without it.
+        topography_window: Window of the height map's PSD: ``hann`` (a measured,
+            non-periodic map) or ``none`` (one period of a periodic surface).
     """
 
     h_rms: float = 1.0e-6
@@ -299,6 +308,9 @@ class RoughnessParams:
     q1: float = 7.8e9
     q_r: float = 0.0
     psd_file: str = ""
+    topography_file: str = ""
+    pixel_size: float = 0.0
+    topography_window: str = "hann"
 
     def __post_init__(self) -> None:
         check_positive("roughness.h_rms", self.h_rms, "m")
@@ -306,9 +318,33 @@ class RoughnessParams:
         check_positive("roughness.q0", self.q0, "1/m")
         check_range("roughness.q1", self.q1, self.q0, math.inf, lo_open=True, unit="1/m (> q0)")
         check_range("roughness.q_r", self.q_r, 0.0, self.q0, hi_open=True, unit="1/m (< q0)")
+        check_nonnegative("roughness.pixel_size", self.pixel_size, "m")
+        check_choice("roughness.topography_window", self.topography_window, ("hann", "none"))
+        if self.topography_file:
+            if self.psd_file:
+                raise ParameterError(
+                    f"roughness.topography_file = {self.topography_file!r} and "
+                    f"roughness.psd_file = {self.psd_file!r} are exclusive: give one measured "
+                    f"roughness (a height map or a PSD table)"
+                )
+            if self.pixel_size <= 0.0:
+                raise ParameterError(
+                    f"roughness.pixel_size = {self.pixel_size!r} m is outside the allowed range "
+                    f"(0, inf) when roughness.topography_file is set: give the pixel size of "
+                    f"{self.topography_file!r}"
+                )
 
     def build(self) -> PowerSpectrum:
         """The :class:`PowerSpectrum` these parameters describe."""
         if self.psd_file:
             return read_psd_table(self.psd_file)
+        if self.topography_file:
+            from dolfinx_seal.roughness.topography import topography_psd
+
+            return topography_psd(
+                self.topography_file,
+                self.pixel_size,
+                window=self.topography_window,
+                name="roughness.topography_file",
+            )
         return SelfAffinePSD(self.q0, self.q1, self.hurst, h_rms=self.h_rms, q_r=self.q_r or None)
