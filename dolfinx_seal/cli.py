@@ -14,7 +14,9 @@ Sub-commands:
 * ``study SCENE``        -- error against run time over resolution levels.
 * ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
 
-``run`` and ``sweep`` appear once scenes are registered.  Unknown arguments
+``run`` and ``sweep`` appear once scenes are registered.  They refuse an ``--out``
+folder holding another scene's or other parameters' results (the same run again
+overwrites); ``--force`` writes anyway.  Unknown arguments
 starting with ``-`` that follow ``--petsc`` are passed to PETSc's options
 database (e.g. ``--petsc -snes_monitor``).
 """
@@ -83,7 +85,7 @@ def _cmd_params(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}"
-    res = _scenes.run_scene(args.scene, p, out)
+    res = _scenes.run_scene(args.scene, p, out, force=args.force)
     print0(f"{args.scene} results:")
     print0(results_table(res, "results.json"))
     print0(f"results written to {out}/results.json")
@@ -104,7 +106,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         print0(f"[{done[0]}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
 
     with on_sweep_row(Path(out) / "sweep.csv", echo):
-        rows = _scenes.sweep_scene(args.scene, p, out, args.over, values)
+        rows = _scenes.sweep_scene(args.scene, p, out, args.over, values, force=args.force)
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
     return 0 if len(rows) == len(values) else 1
 
@@ -164,12 +166,21 @@ def build_parser() -> argparse.ArgumentParser:
         )  # fmt: skip
         sp.set_defaults(func=_cmd_params)
 
+        def force(sp: argparse.ArgumentParser) -> None:
+            sp.add_argument(
+                "--force", action="store_true",
+                help="write into --out even if it holds another scene's or other parameters' "
+                "results (refused otherwise)",
+            )  # fmt: skip
+
         sp = sub.add_parser("run", help="run one point of a scene")
         common(sp)
+        force(sp)
         sp.set_defaults(func=_cmd_run)
 
         sp = sub.add_parser("sweep", help="sweep one parameter of a scene")
         common(sp)
+        force(sp)
         sp.add_argument("--over", required=True, help="parameter to sweep (e.g. speed)")
         sp.add_argument(
             "--values", required=True,

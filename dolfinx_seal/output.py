@@ -4,6 +4,23 @@ Every run writes, into its output folder, ``results.json`` (scalars, SI units,
 keys a scene does not compute are absent) and, for sweeps, ``sweep.csv`` with
 one row appended as each point finishes.  Files are written by rank 0.
 
+Atomic outputs: a whole file is written to a temporary name in its folder
+(``.tmp-<token>-<name>``), flushed and fsynced, then renamed onto its name
+(:func:`atomic_path`, :func:`atomic_open`, :func:`write_text_atomic`), so a kill
+leaves the old file or the new one, never a truncated one (a kill before the
+rename may leave the hidden temporary file behind).  A ``sweep.csv`` row is one
+whole line written with one ``write`` call and fsynced.
+
+Folder guard (:func:`check_out_dir`): before a run or sweep writes anything,
+the folder's ``results.json`` and ``sweep.json`` are compared with what is about
+to be written (scene; single run, sweep or study; the resolved parameters; the
+swept parameter and values).  Other results are refused with a
+:class:`OutputFolderError` unless ``force`` is given.  ``sweep.json`` is the
+sweep manifest, written atomically before the first point (:data:`MANIFEST_KEYS`):
+``manifest`` (``"dolfinx_seal sweep"``), ``format`` (1), ``scene``,
+``parameters`` (the resolved parameters, as in ``results.json``),
+``sweep_parameter`` (dotted name) and ``sweep_values``.
+
 :data:`RESULTS` is the results contract: the keys every scene uses for the same
 quantity, with their units.  The terminal shows only those (a short table for
 a run, one line per finished sweep point: :func:`results_table`,
@@ -14,15 +31,20 @@ from __future__ import annotations
 
 import csv
 import importlib
+import io
 import json
 import math
+import os
+import pickle
 import platform
+import secrets
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import COMM_WORLD, get_logger
 
 _FORCE = "N (N/m in plane strain)"
 
@@ -181,27 +203,142 @@ def _dist_version(module: str) -> str:
     return "unknown"
 
 
-def _jsonable(v: Any) -> Any:
+def _jsonable(v: Any, strict: bool = True) -> Any:
     if isinstance(v, Mapping):
-        return {str(k): _jsonable(x) for k, x in v.items()}
+        return {str(k): _jsonable(x, strict) for k, x in v.items()}
     if isinstance(v, list | tuple):
-        return [_jsonable(x) for x in v]
+        return [_jsonable(x, strict) for x in v]
     if isinstance(v, Path):
         return str(v)
     if hasattr(v, "item") and callable(v.item) and getattr(v, "ndim", 1) == 0:
         v = v.item()
     if hasattr(v, "tolist"):
         return v.tolist()
-    if isinstance(v, float) and not math.isfinite(v):
+    if strict and isinstance(v, float) and not math.isfinite(v):
         raise ValueError("non-finite value in results; refusing to write NaN/inf silently")
     return v
 
 
+# --------------------------------------------------------------- atomic writes
+#: Prefix of the temporary files of :func:`atomic_path` (``.tmp-<token>-<name>``).
+TMP_PREFIX = ".tmp-"
+
+
+def _fsync_path(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _fsync_dir(folder: Path) -> None:
+    """Make a rename in ``folder`` durable (best effort: not every file system allows it)."""
+    with suppress(OSError):
+        _fsync_path(folder)
+
+
+@contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary path next to ``path``, renamed onto ``path`` when the block succeeds.
+
+    Write the whole file to the yielded path (``np.savetxt(tmp, ...)``,
+    ``fig.savefig(tmp)``, ``open(tmp, "w")``); the name ends with ``path``'s own
+    name, so writers that go by the extension (``.png``, ``.csv.gz``) see it.  On
+    success the file is fsynced and renamed with :func:`os.replace` (atomic on
+    POSIX): readers, and a kill at any moment, see the old file or the new one,
+    never a part (a kill before the rename leaves the temporary file, whose
+    name starts with :data:`TMP_PREFIX`).  On an exception (also ``KeyboardInterrupt``) the temporary
+    file is removed and ``path`` is left as it was.  Not collective: call it on
+    the rank that writes.
+    """
+    target = Path(path)
+    tmp = target.with_name(f"{TMP_PREFIX}{os.getpid()}-{secrets.token_hex(4)}-{target.name}")
+    try:
+        yield tmp
+        if not tmp.exists():
+            raise FileNotFoundError(
+                f"nothing was written to {tmp} (the temporary file of {target})"
+            )
+        _fsync_path(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        with suppress(OSError):
+            tmp.unlink()
+        raise
+    _fsync_dir(target.parent)
+
+
+@contextmanager
+def atomic_open(
+    path: str | Path, mode: str = "w", encoding: str = "utf-8", newline: str | None = None
+) -> Iterator[IO[Any]]:
+    """``open(path, mode)`` for a whole file, written atomically (see :func:`atomic_path`).
+
+    ``mode`` is ``"w"`` or ``"wb"``; the file is flushed and fsynced before the rename.
+    """
+    if mode not in ("w", "wt", "wb"):
+        raise ValueError(f"atomic_open writes whole files: mode 'w' or 'wb', got {mode!r}")
+    kw: dict[str, Any] = {} if "b" in mode else {"encoding": encoding, "newline": newline}
+    with atomic_path(path) as tmp, open(tmp, mode.replace("w", "x"), **kw) as fh:
+        yield fh
+        fh.flush()
+        os.fsync(fh.fileno())
+
+
+def write_text_atomic(path: str | Path, text: str, newline: str | None = None) -> Path:
+    """Write ``text`` to ``path`` atomically (UTF-8) and return the path."""
+    with atomic_open(path, "w", newline=newline) as fh:
+        fh.write(text)
+    return Path(path)
+
+
+def _append_line(path: Path, data: bytes) -> None:
+    """Append ``data`` (whole lines) to ``path`` with one ``write`` call, then fsync."""
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+    try:
+        view = memoryview(data)
+        while view:  # one call for a regular file; the loop only guards a short write
+            view = view[os.write(fd, view) :]
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _csv_line(values: Sequence[Any]) -> str:
+    buf = io.StringIO(newline="")
+    csv.writer(buf).writerow(values)
+    return buf.getvalue()
+
+
+def _on_rank0(comm: Any, work: Callable[[], Any]) -> Any:
+    """Run ``work()`` on rank 0 and return its value there; an exception is raised on all ranks."""
+    value, err = None, None
+    if comm.rank == 0:
+        try:
+            value = work()
+        except Exception as e:
+            err = e
+    shared = err
+    if comm.size > 1:
+        if err is not None:
+            try:
+                pickle.dumps(err)
+            except Exception:
+                shared = RuntimeError(f"{type(err).__name__}: {err}")
+        shared = comm.bcast(shared, root=0)
+    if err is not None:
+        raise err
+    if shared is not None:
+        raise shared
+    return value
+
+
 def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = None) -> Path:
-    """Write ``results.json`` (rank 0) and return its path.
+    """Write ``results.json`` (rank 0, atomically) and return its path.
 
     ``results`` must hold ``scene`` and ``parameters``; ``versions`` is added.  A
-    non-finite scalar is an error: nothing is silently NaN.
+    non-finite scalar is an error (raised on every rank): nothing is silently NaN.
     """
     comm = comm or COMM_WORLD
     out = Path(out_dir)
@@ -209,7 +346,8 @@ def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = N
     # On every rank: versions() imports DOLFINx/petsc4py, whose initialisation is
     # collective; importing them on rank 0 alone deadlocks a pure-numpy run under MPI.
     vers = None if "versions" in results else versions()
-    if comm.rank == 0:
+
+    def write() -> None:
         out.mkdir(parents=True, exist_ok=True)
         data = dict(results)
         if vers is not None:
@@ -217,8 +355,9 @@ def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = N
         for k, v in data.items():
             if isinstance(v, float) and not math.isfinite(v):
                 raise ValueError(f"results[{k!r}] = {v}: non-finite result")
-        path.write_text(json.dumps(_jsonable(data), indent=2, sort_keys=False) + "\n")
-    comm.barrier()
+        write_text_atomic(path, json.dumps(_jsonable(data), indent=2, sort_keys=False) + "\n")
+
+    _on_rank0(comm, write)  # collective: no rank goes on before the file is in place
     return path
 
 
@@ -226,8 +365,10 @@ class SweepWriter:
     """Append one CSV row per finished sweep point to ``sweep.csv`` (rank 0).
 
     The header is the union of the keys of the first row; later rows may omit
-    keys (empty cell) but may not add new ones.  Each row is flushed at once so
-    finished points survive a later failure.
+    keys (empty cell) but may not add new ones.  The file appears with the first
+    row (header and row written atomically); each later row is one whole line
+    appended with one ``write`` call and fsynced, so finished points survive a
+    later failure or a kill and the file never ends in a part of a row.
     """
 
     def __init__(self, out_dir: str | Path, name: str = "sweep.csv", comm: Any = None) -> None:
@@ -243,15 +384,17 @@ class SweepWriter:
         """Write one row (scalar values only)."""
         if self.comm.rank != 0:
             return
-        if self.fields is None:
+        first = self.fields is None
+        if first:
             self.fields = list(row.keys())
-            with self.path.open("w", newline="") as fh:
-                csv.writer(fh).writerow(self.fields)
         extra = set(row) - set(self.fields)
         if extra:
             raise ValueError(f"sweep row has keys not in the header: {sorted(extra)}")
-        with self.path.open("a", newline="") as fh:
-            csv.writer(fh).writerow([_fmt(row.get(k, "")) for k in self.fields])
+        line = _csv_line([_fmt(row.get(k, "")) for k in self.fields])
+        if first:
+            write_text_atomic(self.path, _csv_line(self.fields) + line, newline="")
+        else:
+            _append_line(self.path, line.encode("utf-8"))
         if _ROW_LISTENERS:
             here = self.path.resolve()
             for path, callback in list(_ROW_LISTENERS):
@@ -274,3 +417,252 @@ def read_csv(path: str | Path) -> list[dict[str, str]]:
 def column(rows: Sequence[Mapping[str, str]], key: str) -> list[float]:
     """Float column of CSV rows, skipping empty cells."""
     return [float(r[key]) for r in rows if r.get(key, "") != ""]
+
+
+# ---------------------------------------------------------------- folder guard
+#: File name of the sweep manifest.
+SWEEP_MANIFEST = "sweep.json"
+
+#: Keys of the sweep manifest ``sweep.json`` (format 1).
+MANIFEST_KEYS: tuple[str, ...] = (
+    "manifest", "format", "scene", "parameters", "sweep_parameter", "sweep_values",
+)  # fmt: skip
+
+_MANIFEST_TAG = "dolfinx_seal sweep"
+_MAX_DIFFS = 4
+
+
+class OutputFolderError(ParameterError):
+    """The output folder holds results this run would mix with (another scene or parameters)."""
+
+
+def write_sweep_manifest(
+    out_dir: str | Path,
+    scene: str,
+    parameters: Mapping[str, Any],
+    over: str,
+    values: Sequence[float],
+    comm: Any = None,
+) -> Path:
+    """Write ``sweep.json`` (rank 0, atomically) before the first point and return its path.
+
+    ``parameters`` is the resolved parameter record (``params.to_dict``); see the
+    module docstring for the keys.
+    """
+    comm = comm or COMM_WORLD
+    out = Path(out_dir)
+    path = out / SWEEP_MANIFEST
+    data = {
+        "manifest": _MANIFEST_TAG, "format": 1, "scene": scene,
+        "parameters": _jsonable(parameters, strict=False),
+        "sweep_parameter": over, "sweep_values": _jsonable(list(values), strict=False),
+    }  # fmt: skip
+
+    def write() -> None:
+        out.mkdir(parents=True, exist_ok=True)
+        write_text_atomic(path, json.dumps(data, indent=2) + "\n")
+
+    _on_rank0(comm, write)
+    return path
+
+
+def read_sweep_manifest(out_dir: str | Path) -> dict[str, Any] | None:
+    """The sweep manifest of ``out_dir`` (``None`` if there is none); not collective."""
+    path = Path(out_dir) / SWEEP_MANIFEST
+    if not path.is_file():
+        return None
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def check_out_dir(
+    out_dir: str | Path,
+    scene: str,
+    parameters: Mapping[str, Any],
+    over: str | None = None,
+    values: Sequence[float] | None = None,
+    force: bool = False,
+    comm: Any = None,
+) -> None:
+    """Refuse to write a run (or, with ``over``, a sweep) into a folder holding other results.
+
+    The folder's ``results.json`` and ``sweep.json`` (and a ``sweep.csv`` with
+    neither) are compared with what is about to be written: scene; single run,
+    sweep or study; the resolved ``parameters`` (``params.to_dict``); for sweeps
+    the swept parameter and values.  The same results again (a rerun) are
+    allowed and overwrite.  A ``sweep.json`` without ``sweep.csv`` or a sweep
+    ``results.json`` (a sweep stopped before its first point) holds nothing and
+    does not count.  Anything else raises
+    :class:`OutputFolderError` naming the folder, what it holds (the differing
+    dotted parameters with both values) and the ways out; with ``force`` one
+    warning is logged instead.  Collective: decided on rank 0, raised on every rank.
+    """
+    comm = comm or COMM_WORLD
+    new = {
+        "scene": scene,
+        "kind": "run" if over is None else "sweep",
+        "parameters": _plain(parameters),
+        "over": over,
+        "values": None if values is None else _plain(list(values)),
+    }
+    conflict = None
+    if comm.rank == 0:
+        try:
+            conflict = _folder_conflict(Path(out_dir), new)
+        except Exception as e:  # reading the folder failed: refuse rather than guess
+            conflict = (
+                f"output folder {str(out_dir)!r} could not be checked ({type(e).__name__}: {e})"
+            )
+    if comm.size > 1:
+        conflict = comm.bcast(conflict, root=0)
+    if conflict is None:
+        return
+    if force:
+        if comm.rank == 0:
+            get_logger().warning("force given: %s; writing into it anyway", conflict)
+        return
+    raise OutputFolderError(
+        f"{conflict}. Refusing to mix results: choose another output folder "
+        f"(--out DIR, or out_dir in Python), or overwrite with --force (force=True)"
+    )
+
+
+def _plain(v: Any) -> Any:
+    """``v`` as it reads back from JSON (tuples become lists, paths strings)."""
+    return json.loads(json.dumps(_jsonable(v, strict=False)))
+
+
+def _read_json(path: Path) -> tuple[dict[str, Any] | None, str | None]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        return None, f"its {path.name} cannot be read ({type(e).__name__}: {e}; truncated?)"
+    if not isinstance(data, dict):
+        return None, f"its {path.name} is not a results record"
+    return data, None
+
+
+def _record_of(data: Mapping[str, Any], file: str) -> dict[str, Any]:
+    if file == SWEEP_MANIFEST or "sweep_parameter" in data:
+        kind = "sweep"
+    elif "study" in data:
+        kind = f"{data['study']} study"
+    else:
+        kind = "run"
+    return {
+        "file": file,
+        "scene": data.get("scene"),
+        "kind": kind,
+        "parameters": data.get("parameters"),
+        "over": data.get("sweep_parameter", data.get("over")),
+        "values": data.get("sweep_values", data.get("values")),
+    }
+
+
+def _folder_conflict(out: Path, new: Mapping[str, Any]) -> str | None:
+    """What in ``out`` conflicts with ``new`` (a sentence), or ``None``."""
+    where = f"output folder {str(out)!r}"
+    if not out.is_dir():
+        return None
+    results, manifest = out / "results.json", out / SWEEP_MANIFEST
+    has_csv = (out / "sweep.csv").is_file()
+    records = []
+    if results.is_file():
+        data, bad = _read_json(results)
+        if bad:
+            return f"{where}: {bad}"
+        records.append(_record_of(data, results.name))
+    if manifest.is_file() and (has_csv or any(r["kind"] == "sweep" for r in records)):
+        data, bad = _read_json(manifest)
+        if bad:
+            return f"{where}: {bad}"
+        records.append(_record_of(data, manifest.name))
+    if has_csv and not any(r["kind"] == "sweep" for r in records):
+        return (
+            f"{where} holds sweep.csv with neither {SWEEP_MANIFEST} nor a sweep results.json: "
+            f"its scene and parameters are unknown"
+        )
+    for old in records:
+        why = _differs(old, new)
+        if why:
+            return f"{where}: its {old['file']} holds {why}"
+    return None
+
+
+def _what(rec: Mapping[str, Any]) -> str:
+    if rec["kind"] == "run":
+        return f"a single run of scene {rec['scene']!r}"
+    if rec["kind"] == "sweep":
+        return f"a sweep of scene {rec['scene']!r} over {rec['over']!r}"
+    return f"a {rec['kind']} of scene {rec['scene']!r}"
+
+
+def _differs(old: Mapping[str, Any], new: Mapping[str, Any]) -> str | None:
+    if old["scene"] is None:
+        return "results with no 'scene' record"
+    if old["scene"] != new["scene"]:
+        return f"results of scene {old['scene']!r}, not of scene {new['scene']!r}"
+    if old["kind"] != new["kind"]:
+        return f"{_what(old)}, not {_what(new)}"
+    if not isinstance(old["parameters"], Mapping):
+        return f"{_what(old)} with no 'parameters' record"
+    diffs = _param_diffs(old["parameters"], new["parameters"])
+    if new["kind"] == "sweep":
+        if old["over"] != new["over"]:
+            return f"{_what(old)}, not over {new['over']!r}"
+        if old["values"] != new["values"]:
+            diffs.append(
+                f"sweep values {_fmt_values(old['values'])} there, {_fmt_values(new['values'])} now"
+            )
+    if not diffs:
+        return None
+    shown = "; ".join(diffs[:_MAX_DIFFS])
+    more = f"; and {len(diffs) - _MAX_DIFFS} more" if len(diffs) > _MAX_DIFFS else ""
+    return f"{_what(old)} with other parameters: {shown}{more}"
+
+
+def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in d.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out.update(_flatten(v, name + "."))
+        else:
+            out[name] = v
+    return out
+
+
+_ABSENT = object()
+
+
+def _param_diffs(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
+    """``name = old there, new now`` for each dotted parameter that differs (new's order first)."""
+    a, b = _flatten(old), _flatten(new)
+    names = list(b) + [k for k in a if k not in b]
+    out = []
+    for k in names:
+        x, y = a.get(k, _ABSENT), b.get(k, _ABSENT)
+        if x != y:
+            out.append(f"{k} = {_show(x)} there, {_show(y)} now")
+    return out
+
+
+def _show(v: Any) -> str:
+    if v is _ABSENT:
+        return "(absent)"
+    if isinstance(v, str):
+        return repr(v)
+    if isinstance(v, list):
+        return _fmt_values(v)
+    if isinstance(v, float):
+        return repr(v)  # exact: values that differ never read the same
+    return format_scalar(v)
+
+
+def _fmt_values(vals: Any) -> str:
+    if not isinstance(vals, list):
+        return _show(vals)
+    items = [_show(v) for v in vals]
+    if len(items) > 6:
+        items = [*items[:3], "...", *items[-2:]]
+        return f"[{', '.join(items)}] ({len(vals)} values)"
+    return f"[{', '.join(items)}]"

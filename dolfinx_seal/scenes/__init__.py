@@ -6,7 +6,10 @@ names to modules, imported lazily so that ``dolfinx-seal versions`` or a
 pure-numpy scene never imports DOLFINx.
 
 The generic drivers :func:`run_scene` and :func:`sweep_scene` write the
-results contract (``results.json``, ``sweep.csv``) for every scene.
+results contract (``results.json``, ``sweep.csv``; a sweep also its manifest
+``sweep.json``) for every scene.  Before writing anything they refuse an output
+folder that holds another scene's or another parameter set's results unless
+``force=True`` (:func:`dolfinx_seal.output.check_out_dir`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from typing import Any
 from dolfinx_seal import params as _params
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
-from dolfinx_seal.output import SweepWriter, write_results
+from dolfinx_seal.output import SweepWriter, check_out_dir, write_results, write_sweep_manifest
 
 #: scene name -> module that defines ``SCENE``.
 REGISTRY: dict[str, str] = {
@@ -106,10 +109,19 @@ def _scalars(results: Mapping[str, Any]) -> dict[str, Any]:
     }
 
 
-def run_scene(name: str, parameters: Any, out_dir: str | Path) -> dict[str, Any]:
-    """Run one point of scene ``name`` and write ``results.json`` into ``out_dir``."""
+def run_scene(
+    name: str, parameters: Any, out_dir: str | Path, force: bool = False
+) -> dict[str, Any]:
+    """Run one point of scene ``name`` and write ``results.json`` into ``out_dir``.
+
+    ``out_dir`` may hold this run's own results (a rerun overwrites them); one
+    holding another scene's, a sweep's or other parameters' results is refused
+    with :class:`~dolfinx_seal.output.OutputFolderError` (a :class:`ParameterError`)
+    before anything is written, unless ``force``.
+    """
     scene = get(name)
     out = Path(out_dir)
+    check_out_dir(out, name, _params.to_dict(parameters), force=force)
     if COMM_WORLD.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     COMM_WORLD.barrier()
@@ -127,6 +139,7 @@ def sweep_scene(
     out_dir: str | Path,
     over: str,
     values: Sequence[float],
+    force: bool = False,
 ) -> list[dict[str, Any]]:
     """Sweep scene ``name`` over parameter ``over`` (dotted path allowed).
 
@@ -134,9 +147,19 @@ def sweep_scene(
     is recorded in ``results.json`` (``failed_points``) and, for scenes without
     their own continuation, the sweep goes on with the next value.  Returns the
     finished rows.
+
+    Before the first point the folder is checked (the same sweep again is
+    allowed; another scene's, a single run's or other parameters' or values'
+    results are refused unless ``force``, as in :func:`run_scene`) and the
+    manifest ``sweep.json`` (scene, parameters, ``sweep_parameter``,
+    ``sweep_values``) is written.
     """
     scene = get(name)
     out = Path(out_dir)
+    set_parameter(parameters, over, _get_parameter(parameters, over))  # unknown names stop here
+    record = _params.to_dict(parameters)
+    check_out_dir(out, name, record, over=over, values=list(values), force=force)
+    write_sweep_manifest(out, name, record, over, list(values))
     writer = SweepWriter(out)
     rows: list[dict[str, Any]] = []
     failed: list[dict[str, Any]] = []
@@ -179,6 +202,18 @@ def sweep_scene(
     }
     write_results(out, summary)
     return rows
+
+
+def _get_parameter(parameters: Any, dotted: str) -> Any:
+    """The value of ``dotted`` in ``parameters`` (``None`` where a name is unknown)."""
+    obj = parameters
+    for part in dotted.split("."):
+        if not (
+            dataclasses.is_dataclass(obj) and part in {f.name for f in dataclasses.fields(obj)}
+        ):
+            return None
+        obj = getattr(obj, part)
+    return obj
 
 
 def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
