@@ -383,10 +383,67 @@ class SurfaceFilm:
     def set_edge_pressures(self, low: float, high: float) -> None:
         """Pressures [Pa] on the low (inlet) and high (outlet) edges of the zone."""
         f, (up, down) = self.boundary_values, self._edges
+        self._edge_values = (float(low), float(high))
         f.x.array[:] = 0.0
         f.x.array[up] = low / self.scales.pressure
         f.x.array[down] = high / self.scales.pressure
         f.x.scatter_forward()  # the Dirichlet condition reads f at the next solve
+
+    def restrict_to_gap(self, max_gap: float, solvers: Sequence[Any] = ()) -> int:
+        """End the lubricated zone where the current gap exceeds ``max_gap`` [m].
+
+        The free film nodes are those between the lowest and the highest node
+        (along the edge axis) whose gap is at most ``max_gap``; the nodes beyond
+        are pinned to the edge pressure of their side (and a flooded film
+        fraction).  Where the gap is wide the film carries no pressure drop (its
+        conductance goes as ``g^3``), but its rows would dwarf those of the
+        narrow constrictions by that factor and leave them at round-off:
+        ``(300 um / 20 nm)^3`` on a lip seal's band.  The Dirichlet conditions
+        are replaced in :attr:`bcs` and in each of ``solvers`` (their matrices
+        keep their pattern).  Returns the number of free nodes (global).
+        """
+        ctx, S = self.ctx, self.S
+        check_positive("max_gap", max_gap, "m")
+        gdim = ctx.mesh.geometry.dim
+        axis = ctx.sliding if ctx.edge_axis is None else ctx.edge_axis
+        e = np.array([float(axis[i]) for i in range(gdim)])
+        coord = S.tabulate_dof_coordinates()[:, :gdim] @ e
+        g = dolfinx.fem.Function(S)
+        g.interpolate(dolfinx.fem.Expression(ctx.gap, interpolation_points(S.element)))
+        g.x.scatter_forward()
+        film = np.zeros(coord.size, dtype=bool)
+        film[self.film_dofs_local] = True
+        film[np.concatenate(self._edges)] = True
+        film = self._marked(np.flatnonzero(film))  # film nodes, ghosts included
+        narrow = film & (g.x.array <= max_gap)
+        comm = ctx.mesh.comm
+        lo = comm.allreduce(float(coord[narrow].min(initial=np.inf)), op=MPI.MIN)
+        hi = comm.allreduce(float(coord[narrow].max(initial=-np.inf)), op=MPI.MAX)
+        if not np.isfinite(lo):
+            raise ParameterError(
+                f"max_gap = {max_gap!r} m: no film node has a gap that narrow (the "
+                "lubricated zone would be empty)"
+            )
+        low = np.flatnonzero(film & (coord < lo)).astype(np.int32)
+        high = np.flatnonzero(film & (coord > hi)).astype(np.int32)
+        if comm.allreduce(int(low.size == 0 or high.size == 0), op=MPI.MAX):
+            return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)  # nothing to cut
+        old = list(self.bcs)
+        fixed = np.flatnonzero(~film).astype(np.int32)
+        pinned = np.union1d(np.union1d(fixed, low), high).astype(np.int32)
+        self._edges = (low, high)
+        self.set_edge_pressures(*self._edge_values)
+        self.bcs = [dolfinx.fem.dirichletbc(self.boundary_values, pinned)]
+        if self.has_theta:
+            one = dolfinx.fem.Function(self.S_theta)
+            one.x.array[:] = 1.0
+            self.bcs.append(dolfinx.fem.dirichletbc(one, pinned))
+        n_own = S.dofmap.index_map.size_local
+        self.film_dofs_local = np.setdiff1d(np.arange(n_own, dtype=np.int32), pinned)
+        for solver in solvers:
+            kept = [b for b in solver.bcs if all(b is not o for o in old)]
+            solver.bcs[:] = kept + self.bcs
+        return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)
 
     def edge_flows(self) -> tuple[float, float]:
         """Volumetric flows [m^3/s, totals over the kinematics weight] out of the
@@ -626,7 +683,7 @@ class SurfaceFilm:
         comm = self.ctx.mesh.comm
         interior = comm.allreduce(interior, op=MPI.MAX)
         # the inflow: sum of the negative nodal fluxes on the edges
-        _, edge = self._fixed_dofs(self.ctx)
+        edge = np.concatenate(self._edges)
         edge = edge[edge < self.S.dofmap.index_map.size_local]
         inflow = comm.allreduce(float(np.abs(r[edge]).sum()), op=MPI.SUM) / 2.0
         return interior / inflow if inflow > 0 else 0.0

@@ -57,33 +57,52 @@ from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem, SteppingO
 from dolfinx_seal.solvers import SNESOptions
 from geometry.lip import LipSealParams
 
+#: The default seal: an 80 x 100 x 10 mm radial shaft seal (ISO 6194-1 / DIN 3760
+#: type A nominal size, the section of :mod:`geometry.lip`) with a sharp moulded edge
+#: (0.05 mm), oil-side angle 45 deg and air-side angle 15 deg, 0.3 mm radial
+#: interference and a garter spring of 170 N/m.  The spring was chosen so that the
+#: installed lip lands in the bands handbooks give for such seals (H. K. Muller and
+#: B. S. Nau, *Fluid Sealing Technology*, 1998, rotary lip seals; radial force per
+#: unit circumference as defined by SAE J1901): radial force 0.1-0.2 N/mm, sealing
+#: band 0.1-0.3 mm, peak pressure 0.5-2 MPa nearer the oil side.
+SEAL_GEOMETRY = {"tip_radius": 0.05e-3, "air_angle": 15.0}
+SEAL_SPRING_LOAD = 170.0  # N/m of groove circumference
+
+#: Combined roughness of a ground shaft (Ra 0.2-0.4 um) and a moulded lip: h_rms
+#: 0.5 um, Hurst 0.8, wavelengths from 21 um (q0) down to 63 nm (q1).  The longest
+#: wavelength is a fifth of the sealing band: the homogenised laws need scale
+#: separation, which S1's q0 = 1e4 1/m (630 um, wider than the band) lacks.
+SEAL_ROUGHNESS = {"h_rms": 0.5e-6, "q0": 3.0e5, "q1": 1.0e8}
+
 
 @dataclass(frozen=True)
 class LipInstallParameters:
-    """Lip seal installed on its shaft (SI units).
+    """Lip seal installed on its shaft (SI units); defaults: :data:`SEAL_GEOMETRY`.
 
     Attributes:
         lip: Lip geometry and mesh (:class:`geometry.lip.LipSealParams`: shaft radius,
-            interference, angles, spring groove, ...).
+            interference, angles, spring groove, ...; the seal's edge radius and
+            air-side angle by default, :data:`SEAL_GEOMETRY`).
         material: Rubber (NBR-like Mooney-Rivlin, E = 8 MPa, nearly incompressible).
-        roughness: Lip/shaft roughness for the Persson law (S0: h_rms 10 um is the
-            lip; a ground shaft is much smoother; default 1 um combined).
+        roughness: Combined lip/shaft roughness of the Persson law
+            (:data:`SEAL_ROUGHNESS`: h_rms 0.5 um between 21 um and 63 nm).
         contact: Asperity contact law (``persson`` or ``stiff`` for a smooth contact).
         spring_load: Garter spring radial force per unit circumference of the groove
-            [N/m] (0: no spring): a ring of hoop tension ``T = spring_load * r_g``
-            (``r_g`` the mean radius of the undeformed groove surface) pulling the
-            groove bottom radially inwards with ``2 pi T`` in all, a dead load
-            ramped with the shaft radius (the spring's own stiffness is neglected).
+            [N/m] (0: no spring; default 170): a ring of hoop tension
+            ``T = spring_load * r_g`` (``r_g`` the mean radius of the undeformed groove
+            surface) pulling the groove bottom radially inwards with ``2 pi T`` in
+            all, a dead load ramped with the shaft radius (the spring's own
+            stiffness is neglected).
         degree: Displacement degree.
     """
 
-    lip: LipSealParams = field(default_factory=LipSealParams)
+    lip: LipSealParams = field(default_factory=lambda: LipSealParams(**SEAL_GEOMETRY))
     material: MaterialParams = field(
         default_factory=lambda: MaterialParams(model="mooney-rivlin", E=8e6, nu=0.5)
     )
-    roughness: RoughnessParams = field(default_factory=RoughnessParams)
+    roughness: RoughnessParams = field(default_factory=lambda: RoughnessParams(**SEAL_ROUGHNESS))
     contact: ContactLawParams = field(default_factory=ContactLawParams)
-    spring_load: float = 0.0
+    spring_load: float = SEAL_SPRING_LOAD
     degree: int = 2
 
     def __post_init__(self) -> None:

@@ -9,7 +9,13 @@ import pytest
 
 from dolfinx_seal.scenes import make_parameters, run_scene
 
-LARGE_STRAIN = {"lip": {"tip_radius": 20e-6, "h_contact": 10e-6}, "spring_load": 450.0}
+# the lip of the measurements below: air-side angle 25 deg and the S1 roughness
+# (h_rms 1 um from q0 = 1e4 1/m), not the seal defaults
+LARGE_STRAIN = {
+    "lip": {"tip_radius": 20e-6, "h_contact": 10e-6, "air_angle": 25.0},
+    "roughness": {"h_rms": 1e-6, "q0": 1e4, "q1": 7.8e9},
+    "spring_load": 450.0,
+}
 
 
 @pytest.mark.slow
