@@ -4,10 +4,13 @@ DX ?= scripts/dx
 NP ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo test test-dx-paths test-serial test-mpi test-slow lint bench env
+.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-slow lint bench env
 
-demo:  ## the main demo: a short ball Stribeck sweep (writes into results/demo)
-	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo
+demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
+	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
+
+demo-ball:  ## the former main demo: a short ball Stribeck sweep (writes into results/demo-ball)
+	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo-ball
 
 test: test-dx-paths test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
 
@@ -36,6 +39,8 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/ball_stribeck_roughness.py
 	$(DX) python3 bench/ball_low_speed.py
 	$(DX) python3 bench/ball_extremes.py
+	$(DX) python3 bench/lip_mesh.py
+	$(DX) python3 bench/lip_extremes.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"

@@ -1,4 +1,4 @@
-"""Benchmark: the lubricated ball on the extreme cases of DESIGN.md section 8 that
+"""Benchmark: the lubricated ball on the extreme cases of docs/design.md, robustness contract that
 apply to it (issue 7): E from 1 MPa to 1 GPa, speeds over 8 decades (10 m/s down to
 1e-7 m/s), h_rms from 0.1 to 10 um, zero speed.
 

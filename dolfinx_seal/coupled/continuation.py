@@ -1,8 +1,8 @@
 """Continuation in speed for lubricated contacts (Stribeck sweeps).
 
 Newton steps per point stay bounded when each point starts from the previous
-converged state and the speed changes by a bounded factor (DESIGN.md
-section 5).  :func:`speed_sweep` walks the requested speeds in log steps of at
+converged state and the speed changes by a bounded factor (docs/design.md,
+solver strategy).  :func:`speed_sweep` walks the requested speeds in log steps of at
 most :attr:`SpeedStepping.max_decades`; a failed step restores the last
 converged state and halves the step; below :attr:`SpeedStepping.min_decades`
 the target point is recorded as failed and the sweep goes on to the next one
@@ -327,7 +327,7 @@ def start_coupled(
     ``min(target, v_start)`` (boundary lubrication: the film carries little and
     the dry shape is a good start; up to :data:`START_MAX_IT` steps, since the
     contact and cavitation active sets may move one node per step from there,
-    DESIGN.md 5), a Reynolds-condition presolve first for JFO, and speed
+    docs/design.md, solver strategy), a Reynolds-condition presolve first for JFO, and speed
     continuation up to ``target``.  Returns solver figures; raises
     :class:`~dolfinx_seal.errors.SolverError` (with the speed reached) on failure.
     """

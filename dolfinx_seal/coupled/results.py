@@ -1,4 +1,4 @@
-"""Results of a lubricated contact point (DESIGN.md section 6), from a solved problem.
+"""Results of a lubricated contact point (docs/design.md, results contract), from a solved problem.
 
 Friction: the force needed to slide the counter-surface, ``F_t = int (sigma_1
 A/A0 + eta U theta / g + (g/2) dp/ds) da`` (S1 eq 29), split into its
@@ -257,9 +257,13 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
     plt.close(fig)
 
 
-def write_fields(out: Path, prob: Any, name: str = "fields") -> Path:
-    """Write ``NAME.xdmf`` for ParaView: displacement [m], fluid pressure [Pa], film
-    fraction (JFO) and asperity pressure [Pa] as P1 fields (collective)."""
+def write_fields(
+    out: Path, prob: Any, name: str = "fields", extra: dict[str, Any] | None = None
+) -> Path:
+    """Write ``NAME.xdmf`` for ParaView (collective): displacement [m], fluid
+    pressure [Pa] and film fraction (JFO) where the problem has them, and each
+    UFL expression of ``extra`` (name -> expression, e.g. the asperity pressure or
+    the gap, meaningful on the contact surface) interpolated as a P1 field."""
     import dolfinx
     import dolfinx.io
 
@@ -285,6 +289,10 @@ def write_fields(out: Path, prob: Any, name: str = "fields") -> Path:
             t = dolfinx.fem.Function(S1, name="film_fraction")
             t.x.array[:] = prob.film.theta_fn.x.array
             fields.append(t)
+    for key, expr in (extra or {}).items():
+        f = dolfinx.fem.Function(S1, name=key)
+        f.interpolate(dolfinx.fem.Expression(expr, interpolation_points(S1.element)))
+        fields.append(f)
     path = out / f"{name}.xdmf"
     with dolfinx.io.XDMFFile(mesh.comm, str(path), "w") as xdmf:
         xdmf.write_mesh(mesh)

@@ -44,7 +44,7 @@ where the zero-flux condition is natural.
 
 Unknowns are scaled: the solver sees ``P = p / p_ref``, and the film rows are
 weighted so that a unit error in them is comparable to a nodal force error of
-the solid rows (DESIGN.md section 5: unscaled, the Reynolds rows are ~1e-9 of
+the solid rows (docs/design.md, solver strategy: unscaled, the Reynolds rows are ~1e-9 of
 the elastic ones and SNES ignores them).
 
 Tractions on the rubber (S1 eq 29; S0 eq A.5): ``-(p + p_cont) n`` and the

@@ -109,7 +109,7 @@ class LipParameters(LipInstallParameters):
     film: FilmParams = field(
         default_factory=lambda: FilmParams(
             speed=5.0,
-            viscosity=0.05,
+            viscosity=0.01,
             cavitation="jfo",
             flow_factor="persson",
             asperity_shear=1.0e6,
@@ -155,14 +155,20 @@ class LubricatedLip:
     Attributes:
         problem: The coupled problem (position control at the nominal shaft radius).
         install: The dry installation it started from (its figures and mesh).
-        pressure_scale: Constant scaling the sealed pressures (0 -> 1 ramp).
+        face_pressures: Constants of the sealed oil and air pressures on the free
+            faces [Pa] (``face_pressure = true``), else None.
         film_only: The frozen-geometry film solver (``feedback = false``), else None.
     """
 
     problem: SolidContactProblem
     install: Any
-    pressure_scale: Any
+    face_pressures: tuple[Any, Any] | None = None
     film_only: Any = None
+
+    @property
+    def sealed_pressures(self) -> tuple[float, float]:
+        """The oil and air pressures [Pa] the film's edges hold now."""
+        return self.problem.film._edge_values
 
 
 def film_parameters(params: LipParameters) -> FilmParams:
@@ -177,16 +183,30 @@ def film_parameters(params: LipParameters) -> FilmParams:
     )
 
 
+def sealed_face_work(
+    prob: SolidContactProblem, tm: Any, oil: Any, air: Any
+) -> Any:  # a residual term
+    """Virtual work of the sealed pressures ``oil``, ``air`` [Pa] (Constants) on the
+    free faces of the lip: ``oil_side`` and the spring groove, ``air_side``
+    (follower loads on the current surface)."""
+    w = 0
+    for tag, p in (("oil_side", oil), ("spring_groove", oil), ("air_side", air)):
+        w += tractions.pressure_work(p, prob.F, prob.N3, prob.v3, prob.weight,
+                                     prob.ds(tm.tag(tag)))  # fmt: skip
+    return -w
+
+
 def build(params: LipParameters) -> LubricatedLip:
     """Install the lip dry, then build the coupled problem with the film on the
     same mesh and start it from the installed state (sealed pressures at zero)."""
+    import dolfinx
+
     inst = install(params)
     dry, tm = inst.problem, inst.mesh
     lp = params.lip
     fp = film_parameters(params)
     _, p_pc = dry.surface_values(dry.p_cont, average=True)
     width, _ = moment_width(dry)
-    e_star = params.material.E_star
     law = dry.law
     scales = FilmScales(
         pressure=float(p_pc.max()), length=0.5 * width, gap=params.roughness.h_rms,
@@ -194,39 +214,19 @@ def build(params: LipParameters) -> LubricatedLip:
     )  # fmt: skip
     film = SurfaceFilm(
         fp, scales, h_rms=params.roughness.h_rms, rms_slope=getattr(law, "rms_slope", math.nan),
-        e_star=e_star, psd=params.roughness.build() if fp.flow_factor == "persson" else None,
+        e_star=params.material.E_star,
+        psd=params.roughness.build() if fp.flow_factor == "persson" else None,
     )  # fmt: skip
-    # start from zero sealed pressures; set_fraction ramps them
     counter = Shaft("rotary" if params.motion == "rotary" else "axial")
-    pressure_scale = _Scale()
-    oil_faces = (tm.tag("oil_side"), tm.tag("spring_groove"))
-
-    def sealed_pressure_work(prob: SolidContactProblem) -> Any:
-        """The sealed pressures on the free faces of the lip (follower loads)."""
-        import dolfinx
-
-        pressure_scale.constant = dolfinx.fem.Constant(tm.mesh, 0.0)
-        c = pressure_scale.constant
-        w = 0
-        for tags, p in (
-            (oil_faces, params.oil_pressure),
-            ((tm.tag("air_side"),), params.air_pressure),
-        ):
-            for t in tags:
-                if p > 0.0:
-                    w += tractions.pressure_work(c * p, prob.F, prob.N3, prob.v3, prob.weight,
-                                                 prob.ds(t))  # fmt: skip
-        return -w
-
-    snes_type = "newtonls"
-    if fp.cavitation == "jfo":
-        snes_type = "vinewtonssls"
-    elif fp.cavitation == "reynolds":
-        snes_type = "vinewtonrsls"
-    has_sealed = params.face_pressure and (params.oil_pressure > 0.0 or params.air_pressure > 0.0)
+    faces = None
+    terms = []
+    if params.face_pressure and params.feedback:
+        faces = (dolfinx.fem.Constant(tm.mesh, 0.0), dolfinx.fem.Constant(tm.mesh, 0.0))
+        terms = [lambda prob: sealed_face_work(prob, tm, *faces)]
+    snes_type = {"jfo": "vinewtonssls", "reynolds": "vinewtonrsls"}.get(fp.cavitation, "newtonls")
     prob = build_problem(
         params, tm, law, inst.spring, position0=lp.shaft_radius, film=film, counter=counter,
-        extra_terms=[sealed_pressure_work] if (has_sealed and params.feedback) else [],
+        extra_terms=terms,
         # rtol 1e-13: the solid's rows set the residual norm; the film's rows at the
         # constriction carry a flow 1e-7 of the wide gap's and converge with them only
         # at this depth (mass balance 1e-4 at 1e-10, 3e-10 at 1e-13; quadratic steps)
@@ -236,15 +236,14 @@ def build(params: LipParameters) -> LubricatedLip:
         max_step=None if fp.speed == 0.0 or params.motion == "rotary" else 0.2 * width,
     )  # fmt: skip
     prob.spring_fraction = 1.0
-    prob.pressure_scale = pressure_scale
     prob.w.x.array[:] = dry.w.x.array
     prob.w.x.scatter_forward()
     prob.set_fraction(1.0)
-    film.set_edge_pressures(0.0, 0.0)
+    film.set_edge_pressures(0.0, 0.0)  # start from zero sealed pressures
     film.restrict_to_gap(params.zone_gap * params.roughness.h_rms, [prob.solver])
     if film.has_transport:  # pressurise at a slow start speed; solve_speed walks up from it
         film.set_speed(start_speed(params.film.speed))
-    out = LubricatedLip(prob, inst, pressure_scale)
+    out = LubricatedLip(prob, inst, faces)
     if not params.feedback:
         out.film_only = film.make_solver(
             dataclasses.replace(prob.solver.options, snes_type=snes_type), name="lip film"
@@ -253,34 +252,36 @@ def build(params: LipParameters) -> LubricatedLip:
     return out
 
 
-class _Scale:
-    """Holder of the Constant scaling the sealed pressures on the faces."""
-
-    constant: Any = None
-
-    def set(self, t: float) -> None:
-        if self.constant is not None:
-            self.constant.value = t
+def set_sealed_pressures(lub: LubricatedLip, oil: float, air: float) -> None:
+    """Set the sealed oil and air pressures [Pa] (film edges and, when on, faces)."""
+    lub.problem.film.set_edge_pressures(oil, air)
+    if lub.face_pressures is not None:
+        lub.face_pressures[0].value = oil
+        lub.face_pressures[1].value = air
 
 
 def apply_pressures(lub: LubricatedLip, params: LipParameters, t: float) -> None:
-    """Set the sealed pressures to the fraction ``t`` of their values."""
-    lub.problem.film.set_edge_pressures(t * params.oil_pressure, t * params.air_pressure)
-    lub.pressure_scale.set(t)
+    """Set the sealed pressures to the fraction ``t`` of those of ``params``."""
+    set_sealed_pressures(lub, t * params.oil_pressure, t * params.air_pressure)
 
 
-def solve_pressures(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
-    """Bring the sealed pressures from zero to their values (adaptive ramp of the
-    coupled problem; one film solve on the frozen lip without feedback)."""
+def move_oil_pressure(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
+    """Move the sealed pressures from their current values to those of ``params``
+    and solve: one film solve on the frozen lip (``feedback = false``), else the
+    coupled problem with adaptive steps from the last converged state (a failed
+    step is cut and retried, :meth:`SolidContactProblem.ramp`)."""
     prob = lub.problem
     t0 = time.perf_counter()
+    (oil0, air0), target = lub.sealed_pressures, (params.oil_pressure, params.air_pressure)
+    where = f"lip at oil pressure {target[0]:g} Pa"
     if lub.film_only is not None:
-        apply_pressures(lub, params, 1.0)
-        hist = lub.film_only.solve(where="lip film (frozen lip)")
+        set_sealed_pressures(lub, *target)
+        hist = lub.film_only.solve(where=f"{where} (frozen lip)")
         return {"newton_iterations": hist.newton_iterations, "pressure_steps": 1,
                 "solve_time_s": time.perf_counter() - t0}  # fmt: skip
-
-    prob.pressure_ramp = lambda t: apply_pressures(lub, params, t)
+    prob.pressure_ramp = lambda t: set_sealed_pressures(
+        lub, oil0 + t * (target[0] - oil0), air0 + t * (target[1] - air0)
+    )
     try:
         n0 = len(prob.steps)
         prob.ramp(SteppingOptions(first=1.0, grow=2.0, easy=8, max_steps=60, predictor=False))
@@ -292,6 +293,9 @@ def solve_pressures(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]
         "pressure_steps": len(steps),
         "solve_time_s": time.perf_counter() - t0,
     }
+
+
+solve_pressures = move_oil_pressure  # from the zero pressures of a fresh build
 
 
 def solve_speed(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
@@ -544,12 +548,11 @@ def sweep(
     rows: list[dict[str, Any]] = []
     if name == "oil_pressure":
         vals = sorted(float(v) for v in values)
-        p0 = set_parameter(params, "oil_pressure", max(vals[-1], 1e-300) if vals[-1] > 0 else 0.0)
-        lub = build(p0)
+        lub = build(params)
         for v in vals:
             t0 = time.perf_counter()
             pv = set_parameter(params, "oil_pressure", v)
-            info = _to_pressure(lub, p0, v)
+            info = move_oil_pressure(lub, pv)
             r = results(lub, pv)
             r.update(info, wall_time_s=time.perf_counter() - t0, converged=True)
             rows.append(r)
@@ -590,8 +593,9 @@ def sweep(
         def point(v: float, r: dict[str, Any], lub: LubricatedLip = lub) -> None:
             pv = set_parameter(params, "film.speed", v)
             rr = results(lub, pv)
-            rr.update({k: r[k] for k in ("newton_iterations", "continuation_steps",
-                                         "wall_time_s") if k in r}, converged=True)  # fmt: skip
+            rr.update(newton_iterations=r.get("newton_iterations", 0),
+                      continuation_steps=r.get("continuation_steps", 1),
+                      wall_time_s=r.get("wall_time_s", 0.0), converged=True)  # fmt: skip
             rows.append(rr)
             on_point(v, rr)
             write_film(out / f"speed_{v:+.3e}", lub, pv)
@@ -601,19 +605,6 @@ def sweep(
         point(chain[0], r0)
         speed_sweep(lub.problem, chain[1:], point, dict, params.stepping)
     return rows
-
-
-def _to_pressure(lub: LubricatedLip, p_max_params: LipParameters, v: float) -> dict[str, Any]:
-    """Move the sealed oil pressure of a built lip to ``v`` [Pa] (from its current value)."""
-    frac = v / p_max_params.oil_pressure if p_max_params.oil_pressure > 0 else 0.0
-    prob = lub.problem
-    t0 = time.perf_counter()
-    apply_pressures(lub, p_max_params, frac)
-    if lub.film_only is not None:
-        its = lub.film_only.solve(where=f"lip film at oil pressure {v:g} Pa").newton_iterations
-    else:
-        its = prob.solver.solve(where=f"lip at oil pressure {v:g} Pa").newton_iterations
-    return {"newton_iterations": its, "solve_time_s": time.perf_counter() - t0}
 
 
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:

@@ -43,6 +43,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.compat import interpolation_points
+from dolfinx_seal.coupled.results import write_fields
 from dolfinx_seal.meshing import create_mesh
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.params import check_int_range, check_nonnegative
@@ -301,7 +302,74 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
         xlabel="axial position z [mm] (oil side < 0)", ylabel="contact pressure [MPa]",
         curves={"contact pressure": (z * 1e3, p / 1e6)},
     )  # fmt: skip
+    write_section(out, prob, f"installed lip: {radial_load:.0f} N/m, band {width * 1e3:.3f} mm, "
+                  f"peak {pmax / 1e6:.2f} MPa")  # fmt: skip
+    write_fields(out, prob, extra={"max_principal_strain": principal_strain(prob),
+                                   "contact_pressure": prob.p_cont, "gap": prob.gap})  # fmt: skip
     return res
+
+
+def principal_strain(prob: SolidContactProblem) -> Any:
+    """Largest principal logarithmic (Hencky) strain magnitude (UFL) [-]: in
+    axisymmetry ``C = F^T F`` has the (r, z) eigenvalues ``(tr +- sqrt(tr^2 - 4
+    det)) / 2`` and the hoop one ``C_tt``."""
+    C = prob.F.T * prob.F
+    tr = C[0, 0] + C[1, 1]
+    det = C[0, 0] * C[1, 1] - C[0, 1] * C[1, 0]
+    disc = ufl.sqrt(ufl.max_value(tr * tr - 4.0 * det, 0.0))
+    e = [abs(0.5 * ufl.ln(lam2)) for lam2 in ((tr + disc) / 2.0, (tr - disc) / 2.0, C[2, 2])]
+    return ufl.max_value(ufl.max_value(e[0], e[1]), e[2])
+
+
+def write_section(out: Path, prob: SolidContactProblem, title: str) -> None:
+    """``section.png``: the deformed section coloured by the largest principal
+    strain, the whole lip and its tip, with the shaft line (rank 0 writes;
+    every rank contributes its cells)."""
+    S = dolfinx.fem.functionspace(prob.mesh, ("Lagrange", 1))
+    V = dolfinx.fem.functionspace(prob.mesh, ("Lagrange", 1, (2,)))
+    e = dolfinx.fem.Function(S)
+    e.interpolate(dolfinx.fem.Expression(principal_strain(prob), interpolation_points(S.element)))
+    u = dolfinx.fem.Function(V)
+    u.interpolate(dolfinx.fem.Expression(prob.u, interpolation_points(V.element)))
+    n_cells = prob.mesh.topology.index_map(prob.mesh.topology.dim).size_local
+    cells = np.array([S.dofmap.cell_dofs(c) for c in range(n_cells)], dtype=np.int64)
+    X = S.tabulate_dof_coordinates()[:, :2]
+    xy = X + u.x.array.reshape(-1, 2)
+    tri_xy = xy[cells]  # (cells, 3, 2) current positions
+    tri_e = e.x.array[cells]
+    comm = prob.mesh.comm
+    parts = comm.gather((tri_xy, tri_e), root=0)
+    if comm.rank != 0:
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.tri import Triangulation
+
+    txy = np.concatenate([a for a, _ in parts]).reshape(-1, 2)
+    te = np.concatenate([b for _, b in parts]).ravel()
+    tri = Triangulation(txy[:, 1] * 1e3, txy[:, 0] * 1e3, np.arange(txy.shape[0]).reshape(-1, 3))
+    R = float(prob.counter_position())
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), gridspec_kw={"width_ratios": [1.3, 1]})
+    for ax, zoom in zip(axes, (None, 0.6), strict=True):
+        m = ax.tripcolor(tri, te, shading="gouraud", cmap="viridis", vmin=0.0)
+        ax.axhline(R * 1e3, color="k", lw=1.5)
+        ax.set_aspect("equal")
+        ax.set_xlabel("z [mm] (oil side left)")
+        ax.set_ylabel("r [mm]")
+        if zoom:
+            i = int(np.argmin(txy[:, 0]))
+            zc, rc = txy[i, 1] * 1e3, txy[i, 0] * 1e3
+            ax.set_xlim(zc - zoom, zc + zoom)
+            ax.set_ylim(rc - 0.15, rc + 2 * zoom - 0.15)
+            ax.set_title("tip (shaft: black line)")
+        else:
+            ax.set_ylim(R * 1e3 - 0.5, float(txy[:, 0].max()) * 1e3 + 0.3)
+            ax.set_title(title, fontsize=9)
+    fig.colorbar(m, ax=axes, label="largest principal (Hencky) strain", shrink=0.85)
+    fig.savefig(Path(out) / "section.png", dpi=130)
+    plt.close(fig)
 
 
 def radial_balance(prob: SolidContactProblem, clamped: int) -> tuple[float, float]:

@@ -10,8 +10,8 @@ Jacobian (quadratic Newton convergence):
   the full Persson relation (its fit error against the tabulated relation is
   ``law.max_rel_error``, about 2-3 %, reported by the scenes).
 
-Newton iterates can visit gaps far outside the physical range (DESIGN.md
-section 5: an 80 um penetration on a first step overflowed ``exp``).  Both
+Newton iterates can visit gaps far outside the physical range (docs/design.md,
+known traps: an 80 um penetration on a first step overflowed ``exp``).  Both
 forms are therefore continued C^1 outside a safe window, keeping ``p`` finite,
 positive and monotone:
 

@@ -134,7 +134,7 @@ class SolidContactProblem:
         max_gap_step: Largest change of the gap at a contact node in one Newton step
             [m] (normal displacement minus counter-surface motion).  A few decay
             lengths of the contact law keep Newton on an exponential law from
-            overshooting by decades of pressure (DESIGN.md section 5); None: no limit.
+            overshooting by decades of pressure (docs/design.md, solver strategy); None: no limit.
         max_gap_closure: Largest fraction f (0-1) of its current value by which a
             contact gap may close in one Newton step; it may open by at most the
             factor 1/(1 - f).  For films, whose conductance goes as g^3: it keeps a

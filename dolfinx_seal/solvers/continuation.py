@@ -2,7 +2,7 @@
 
 A free-boundary problem solved by an active-set Newton from a cold start moves
 its active set by about one node per step, so the step count grows with the
-mesh (DESIGN.md section 5).  Starting each level from the interpolated
+mesh (docs/design.md, solver strategy).  Starting each level from the interpolated
 solution of the level below puts the free boundary within a cell or two of
 its place, and the Newton steps per level stay bounded whatever the size.
 """

@@ -20,7 +20,7 @@
   with ``kappa_i`` a multiple of the Jacobian diagonal, stepped up by decades
   with a semi-smooth Newton, after which the exact VI needs a few steps.
 
-Defaults (DESIGN.md section 5): the ``basic`` line search (``bt`` fails
+Defaults (docs/design.md, solver strategy): the ``basic`` line search (``bt`` fails
 spuriously with the VI solvers because the active set changes as the step
 shrinks) with an optional pre-check that limits the step; a direct LU solve
 with MUMPS.

@@ -23,7 +23,7 @@ def test_reference_against_classical_values():
     inf = martin_solution(math.inf)
     assert inf.x_cavitation == pytest.approx(0.4751, abs=5e-5)
     assert 24.0 * inf.load == pytest.approx(4.896, rel=5e-4)  # 4.8950 here; 4.896 is rounded
-    # the inlet distance matters (DESIGN.md section 5): X_in = 2 gives a 41 % lower load
+    # the inlet distance matters (docs/design.md, solver strategy): X_in = 2 gives a 41 % lower load
     assert martin_solution(2.0).load < 0.6 * inf.load
 
 
