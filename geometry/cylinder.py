@@ -4,7 +4,7 @@ The cylinder of radius ``R`` rests on the flat ``y = 0`` at the origin; its
 centre is ``(0, R)``.  Sliding is along ``x``; the contact arc is tagged from
 ``x = -contact_upstream * a`` to ``x = +contact_downstream * a`` (``a`` the
 expected contact half-width), so that a 1D Reynolds film on it starts well
-upstream of the contact (DESIGN section 5: the inlet must be several
+upstream of the contact (docs/design.md, known traps: the inlet must be several
 half-widths away).  Upstream is ``-x``: the inlet for surfaces moving in ``+x``.
 
 Shapes (``shape``):

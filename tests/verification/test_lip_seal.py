@@ -137,25 +137,39 @@ def test_negative_rotary_speed_is_refused():
 
 
 @pytest.mark.slow
-def test_out_stroke_film_against_inverse_hydrodynamics(mpi_tmp_path):
-    """The oil a rod carries out: the FEM (JFO) against IHL's h*/2 of the dry
-    contact pressure, in full film (fluid load fraction near 1)."""
+def test_strokes_against_inverse_hydrodynamics():
+    """The oil a rod carries out (out-stroke, +1 m/s) and can carry back
+    (in-stroke, -1 m/s): the FEM (JFO) against IHL's h*/2 of the dry installed
+    contact pressure (Blok; Muller & Nau), and the rod seal's leak criterion.
+
+    Measured on 10 um: out-stroke 151.2 nm against IHL 138.5 nm (+9.2 %, fluid
+    load 0.56: IHL neglects the flow through the roughness and the change of the
+    pressure under the friction drag); in-stroke 275.6 against 211.1 nm (+31 %:
+    the in-stroke drag halves the band)."""
     from dolfinx_seal.scenes import lip
 
-    p = make_parameters("lip", values={**OPEN, "motion": "reciprocating", "oil_pressure": 0.0,
-                                       "film": {"speed": 0.3}})  # fmt: skip
-    lub = lip.build(p)
-    prob = lub.problem
-    Xs, pc = lip._surface_by_z(prob, prob.p_cont)  # the dry installed contact pressure
-    v = lip._by_z(prob.film.film_values())
-    z = np.interp(Xs[:, 1], v["X"][:, 1], v["x"][:, 1])
-    h_star = ihl_film(z, pc, p.film.viscosity, p.film.speed)
-    lip.solve_pressures(lub, p)
-    lip.solve_speed(lub, p)
-    res = lip.results(lub, p)
-    assert res["fluid_load_fraction"] > 0.9
-    assert res["mass_balance_error"] < 1e-5
-    assert res["transport_film_thickness"] == pytest.approx(0.5 * h_star, rel=0.2, abs=0.0)
+    films = {}
+    for speed in (1.0, -1.0):
+        p = make_parameters("lip", values={"lip": {"h_contact": 10e-6}, "oil_pressure": 0.0,
+                                           "motion": "reciprocating", "film": {"speed": speed}})  # fmt: skip
+        lub = lip.build(p)
+        prob = lub.problem
+        Xs, pc = lip._surface_by_z(prob, prob.p_cont)  # the dry installed contact pressure
+        v = lip._by_z(prob.film.film_values())
+        z = np.interp(Xs[:, 1], v["X"][:, 1], v["x"][:, 1])
+        h_star = ihl_film(z, pc, p.film.viscosity, speed)
+        lip.move_oil_pressure(lub, p)
+        lip.solve_speed(lub, p)
+        res = lip.results(lub, p)
+        assert res["mass_balance_error"] < 1e-5
+        films[speed] = (res["transport_film_thickness"], 0.5 * h_star)
+    out, ihl_out = films[1.0]
+    back, ihl_back = films[-1.0]
+    assert out == pytest.approx(ihl_out, rel=0.15, abs=0.0)
+    assert back == pytest.approx(ihl_back, rel=0.4, abs=0.0)
+    # IHL's criterion: the steeper oil side gives the thinner out-going film, so the
+    # in-stroke can bring back more than the out-stroke carries out (no leak)
+    assert ihl_back > ihl_out and back > out
 
 
 def test_same_answer_serial_and_parallel(mpi_tmp_path):
