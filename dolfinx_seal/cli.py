@@ -13,6 +13,7 @@ Sub-commands:
   one line per finished point.
 * ``study SCENE``        -- error against run time over resolution levels.
 * ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
+* ``psd FILE``           -- PSD (``psd.csv``, ``psd.png``) and moments of a measured height map.
 
 ``run`` and ``sweep`` appear once scenes are registered.  They refuse an ``--out``
 folder holding another scene's or other parameters' results (the same run again
@@ -201,10 +202,32 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--reference", default="hertz", choices=("hertz", "finest"))
         sp.set_defaults(func=_cmd_study)
 
+    sp = sub.add_parser("psd", help="PSD and moments of a measured height map")
+    sp.add_argument("file", help="height map: text rows of heights [m] or .npy")
+    sp.add_argument("--pixel-size", type=float, default=None, help="[m] (or a text header)")
+    sp.add_argument("--window", default="hann", choices=("hann", "none"))
+    sp.add_argument("--out", default="results/psd", help="output folder")
+    sp.set_defaults(func=_cmd_psd)
+
     from dolfinx_seal import meshcmd
 
     meshcmd.add_parser(sub)
     return parser
+
+
+def _cmd_psd(args: argparse.Namespace) -> int:
+    """``psd.csv`` (reusable as ``roughness.psd_file``), ``psd.png`` and the moments."""
+    from dolfinx_seal.roughness.topography import topography_report
+
+    out = Path(args.out)
+    if COMM_WORLD.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    m = topography_report(args.file, args.pixel_size, out, window=args.window)
+    for k, v in m.items():
+        if isinstance(v, int | float):
+            print0(f"  {k:22s} {v:.6g}")
+    print0(f"wrote {out}/psd.csv and psd.png")
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:
