@@ -164,7 +164,6 @@ class LubricatedLip:
     install: Any
     face_pressures: tuple[Any, Any] | None = None
     film_only: Any = None
-    film_polisher: Any = None
 
     @property
     def sealed_pressures(self) -> tuple[float, float]:
@@ -289,22 +288,11 @@ def move_oil_pressure(lub: LubricatedLip, params: LipParameters) -> dict[str, An
         steps = prob.steps[n0:]
     finally:
         prob.pressure_ramp = None
-    its = int(sum(s.newton_iterations for s in steps)) + polish_film(lub, where)
-    return {"newton_iterations": its, "pressure_steps": len(steps),
-            "solve_time_s": time.perf_counter() - t0}  # fmt: skip
-
-
-def polish_film(lub: LubricatedLip, where: str) -> int:
-    """Solve the film alone on the converged shape (a step or two): the coupled
-    residual norm is set by the solid's rows, and at a nearly closed band the
-    film's rows at the constriction carry a flow 1e-9 of theirs, so the coupled
-    tolerance leaves the mass balance there at 1e-1 (E = 2 MPa); the film alone
-    converges it to round-off, and the change of the fluid pressure is within the
-    coupled solve's tolerance.  Returns the film Newton steps."""
-    if lub.film_polisher is None:
-        opts = lub.problem.solver.options
-        lub.film_polisher = lub.problem.film.make_solver(opts, name="lip film polish")
-    return lub.film_polisher.solve(where=f"{where} (film on the converged lip)").newton_iterations
+    return {
+        "newton_iterations": int(sum(s.newton_iterations for s in steps)),
+        "pressure_steps": len(steps),
+        "solve_time_s": time.perf_counter() - t0,
+    }
 
 
 solve_pressures = move_oil_pressure  # from the zero pressures of a fresh build
@@ -332,7 +320,6 @@ def solve_speed(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
             )
         its += recs[-1].newton_iterations
         steps += recs[-1].steps
-    its += polish_film(lub, f"lip at rod speed {target:g} m/s")
     return {"newton_iterations": its, "continuation_steps": steps,
             "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
@@ -605,7 +592,6 @@ def sweep(
 
         def point(v: float, r: dict[str, Any], lub: LubricatedLip = lub) -> None:
             pv = set_parameter(params, "film.speed", v)
-            polish_film(lub, f"lip at rod speed {v:g} m/s")
             rr = results(lub, pv)
             rr.update(newton_iterations=r.get("newton_iterations", 0),
                       continuation_steps=r.get("continuation_steps", 1),
