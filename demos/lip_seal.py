@@ -108,8 +108,8 @@ def leakage_line(lub: Any, p: Any, pressures: list[float], out: Path) -> list[di
         }
         writer.append(row)
         rows.append(row)
-        print0(f"  [{i + 1}/{len(pressures)}] oil {mpa:g} MPa: leakage {row['leakage_ml_per_h']:.3g}"
-               f" ml/h (frozen lip {q_frozen * lip.ML_PER_H:.3g}), {info['newton_iterations']}"
+        print0(f"  [{i + 1}/{len(pressures)}] oil {mpa:g} MPa: leakage {row['leakage_ml_per_h'] + 0.0:.3g}"
+               f" ml/h (frozen lip {q_frozen * lip.ML_PER_H + 0.0:.3g}), {info['newton_iterations']}"
                f" Newton steps, {row['wall_time_s']:.1f} s")  # fmt: skip
     frozen.destroy()
     return rows

@@ -217,7 +217,9 @@ def build(params: LipParameters) -> LubricatedLip:
         e_star=params.material.E_star,
         psd=params.roughness.build() if fp.flow_factor == "persson" else None,
     )  # fmt: skip
-    counter = Shaft("rotary" if params.motion == "rotary" else "axial")
+    # a rod at rest shears nothing axially: only a moving rod is an axial counter-surface
+    axial = params.motion == "reciprocating" and params.film.speed != 0.0
+    counter = Shaft("axial" if axial else "rotary")
     faces = None
     terms = []
     if params.face_pressure and params.feedback:
