@@ -368,6 +368,7 @@ def write_section(out: Path, prob: SolidContactProblem, title: str) -> None:
             ax.set_ylim(R * 1e3 - 0.5, float(txy[:, 0].max()) * 1e3 + 0.3)
             ax.set_title(title, fontsize=9)
     fig.colorbar(m, ax=axes, label="largest principal (Hencky) strain", shrink=0.85)
+    Path(out).mkdir(parents=True, exist_ok=True)
     fig.savefig(Path(out) / "section.png", dpi=130)
     plt.close(fig)
 
