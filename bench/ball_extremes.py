@@ -28,11 +28,11 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import bcast_path, print0
 from dolfinx_seal.output import SweepWriter, read_csv
 from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
-from dolfinx_seal.scenes.common import hertz_point
 
 SPEEDS = [10.0, 1.0, 0.1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7]  # m/s, 8 decades
 

@@ -20,10 +20,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.mpi import bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters, sweep_scene
-from dolfinx_seal.scenes.common import hertz_point
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
 

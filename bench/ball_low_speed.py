@@ -30,10 +30,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from demos.ball_stribeck import parameters, run
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter, read_csv
 from dolfinx_seal.scenes import run_scene
-from dolfinx_seal.scenes.common import hertz_point
 
 SPEEDS = [0.1, 0.03, 0.01, 3e-3, 1e-3, 3e-4, 1e-4]  # m/s
 

@@ -32,6 +32,7 @@ import ufl
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.coupled.continuation import FilmPresolver, secant_predictor
 from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 from dolfinx_seal.coupled.results import lubricated_results
@@ -39,7 +40,6 @@ from dolfinx_seal.errors import SolverError
 from dolfinx_seal.mpi import bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters
-from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solvers import NonlinearSolver, SNESOptions

@@ -25,11 +25,11 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.coupled.sweep import stribeck_minimum
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters, parse_values, sweep_scene
-from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.verification.line_ehl import for_cylinder, speed_continuation
 
 #: (label, Young's modulus [Pa], asperity shear sigma_1 [Pa]) as in S1 figures 12 and 14

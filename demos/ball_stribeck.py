@@ -29,10 +29,10 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters, sweep_scene
-from dolfinx_seal.scenes.common import hertz_point
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
 SPEEDS = [0.3, 0.1, 0.03]  # [m/s], walked downwards (full film to the onset of asperity contact)

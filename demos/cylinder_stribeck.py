@@ -27,9 +27,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.scenes import make_parameters, sweep_scene
-from dolfinx_seal.scenes.common import hertz_line
 
 CURVES = {
     "h1um": {"roughness": {"h_rms": 1e-6}},

@@ -358,3 +358,29 @@ def load_toml(path: str | Path) -> dict[str, Any]:
 def replace(obj: T, **changes: Any) -> T:
     """``dataclasses.replace`` that re-runs validation (``__post_init__``)."""
     return dataclasses.replace(obj, **changes)  # type: ignore[type-var]
+
+
+def get_dotted(parameters: Any, dotted: str) -> Any:
+    """The value of ``dotted`` in ``parameters`` (``None`` where a name is unknown)."""
+    obj = parameters
+    for part in dotted.split("."):
+        if not (
+            dataclasses.is_dataclass(obj) and part in {f.name for f in dataclasses.fields(obj)}
+        ):
+            return None
+        obj = getattr(obj, part)
+    return obj
+
+
+def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
+    """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``."""
+    head, _, rest = dotted.partition(".")
+    fields = {f.name: f for f in dataclasses.fields(parameters)}
+    if head not in fields:
+        raise ParameterError(f"unknown parameter {dotted!r}; allowed: {', '.join(sorted(fields))}")
+    if rest:
+        inner = set_parameter(getattr(parameters, head), rest, value)
+        return dataclasses.replace(parameters, **{head: inner})
+    data = to_dict(parameters)
+    data[head] = value
+    return from_mapping(type(parameters), data)

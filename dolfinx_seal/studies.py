@@ -27,7 +27,7 @@ from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.output import SweepWriter, write_results
-from dolfinx_seal.params import check_choice, to_dict
+from dolfinx_seal.params import check_choice, set_parameter, to_dict
 
 #: result key -> key of its analytical reference
 HERTZ_KEYS = {
@@ -55,7 +55,7 @@ def convergence_study(
     rows: list[dict[str, Any]] = []
     t_all = time.perf_counter()
     for i, v in enumerate(values):
-        p = scenes.set_parameter(parameters, over, v)
+        p = set_parameter(parameters, over, v)
         res = scenes.get(scene).run(p, out / f"level{i}")
         row: dict[str, Any] = {over: v, "wall_time_s": res["wall_time_s"], "dofs": res.get("dofs", 0),
                                "newton_iterations": res.get("newton_iterations", 0)}  # fmt: skip

@@ -441,7 +441,7 @@ class ClosedFormPersson(ContactLaw):
 
     def area_fraction(self, p: ArrayLike) -> FloatArray:
         """``A/A0 = erf(sqrt 2 p / (E* slope))`` at nominal pressure ``p >= 0`` [Pa],
-        the relation the FEM forms use (:func:`~dolfinx_seal.solid.asperity.area_fraction`)."""
+        the relation the FEM forms use (:func:`~dolfinx_seal.surface.asperity.area_fraction`)."""
         if not (math.isfinite(self.rms_slope) and self.rms_slope > 0):
             return super().area_fraction(p)
         pa = as_array("p", p, 0.0, lo_open=False, law=self.name, unit="Pa")

@@ -124,35 +124,22 @@ class PartitionedSolver:
         self.film.destroy()
 
 
-def partitioned_start(prob: Any, params: Any) -> dict[str, Any]:
+def partitioned_start(
+    prob: Any, pressure_guess: Any, peak_gap: float, speeds: list[float], relaxation: float
+) -> dict[str, Any]:
     """First point of a scene with ``solver = "partitioned"``.
 
-    Warm start (deformation under the Hertz pressure), the loop at the scene's
-    boundary-lubrication start speed, then the loop again at speeds growing by
-    half a decade up to ``film.speed`` (the same path as the monolithic start,
-    each step solved by the partitioned scheme).
+    Warm start (the deformation under ``pressure_guess`` [Pa, UFL], with the gap
+    ``peak_gap`` [m] at its peak), then the partitioned loop at each of ``speeds``
+    [m/s] in turn (the scene's start speed up to its target: the same path as the
+    monolithic start, each step solved by the partitioned scheme).
 
     Raises:
         SolverError: a loop did not converge; ``partial`` holds the last speed reached.
     """
-
-    import ufl
-
-    from dolfinx_seal.scenes.common import hertz_line, separation_of
-    from dolfinx_seal.scenes.cylinder import start_speed
-
     t0 = time.perf_counter()
-    a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
-    X = prob.X
-    guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))
-    peak_gap = separation_of(prob.law, p_h) if prob.law is not None else params.roughness.h_rms
-    its = prob.warm_start(guess, peak_gap)
+    its = prob.warm_start(pressure_guess, peak_gap)
     prob.set_fraction(1.0)
-    target = params.film.speed
-    v = min(target, start_speed(params))
-    speeds = [v]
-    while speeds[-1] < target * (1 - 1e-12):
-        speeds.append(min(target, speeds[-1] * 10**0.5))
     ps = PartitionedSolver(prob)
     iterations = 0
     last = None
@@ -160,17 +147,17 @@ def partitioned_start(prob: Any, params: Any) -> dict[str, Any]:
         for s in speeds:
             prob.film.set_speed(s)
             try:
-                rep = ps.solve(PartitionedOptions(relaxation=params.relaxation))
+                rep = ps.solve(PartitionedOptions(relaxation=relaxation))
             except SolverError as e:
                 raise SolverError(
-                    f"partitioned scheme (relaxation {params.relaxation:g}) failed at "
+                    f"partitioned scheme (relaxation {relaxation:g}) failed at "
                     f"{s:.3g} m/s: {e.what}", where=prob.name, partial={"speed": last},
                 ) from e  # fmt: skip
             its += rep.newton_solid + rep.newton_film
             iterations += rep.iterations
             if not rep.converged:
                 raise SolverError(
-                    f"partitioned scheme (relaxation {params.relaxation:g}) not converged at "
+                    f"partitioned scheme (relaxation {relaxation:g}) not converged at "
                     f"{s:.3g} m/s after {rep.iterations} iterations (last relative pressure "
                     f"change {rep.changes[-1]:.2e})", where=prob.name, partial={"speed": last},
                 )  # fmt: skip
@@ -181,7 +168,7 @@ def partitioned_start(prob: Any, params: Any) -> dict[str, Any]:
         "newton_iterations": its,
         "coupling_iterations": iterations,
         "solve_time_s": time.perf_counter() - t0,
-        "strategy": f"partitioned (relaxation {params.relaxation:g}), {len(speeds)} speeds",
+        "strategy": f"partitioned (relaxation {relaxation:g}), {len(speeds)} speeds",
     }
 
 

@@ -16,8 +16,8 @@ import numpy as np
 import ufl
 
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.solid import tractions
-from dolfinx_seal.solid.asperity import area_fraction
+from dolfinx_seal.surface import tractions
+from dolfinx_seal.surface.asperity import area_fraction
 
 
 def lubricated_results(

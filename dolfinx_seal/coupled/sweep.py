@@ -22,6 +22,7 @@ from dolfinx_seal.coupled.continuation import order_speeds, speed_sweep
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.params import set_parameter
 
 
 @dataclass(frozen=True)
@@ -50,8 +51,6 @@ def lubricated_sweep(
     Speeds are ordered by ``params.sweep_order``; the continuation options are
     ``params.stepping``.  Returns the rows of the converged points.
     """
-    from dolfinx_seal.scenes import set_parameter
-
     if name not in ("speed", "film.speed"):
         raise ParameterError(f"lubricated sweeps run over film.speed (got --over {name!r})")
     if not params.lubricated:

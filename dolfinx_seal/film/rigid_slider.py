@@ -22,9 +22,10 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.film.surface import FilmContext, FilmParams, FilmScales, SurfaceFilm
+from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.params import check_int_range
 from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+from dolfinx_seal.surface.state import SurfaceState
 
 CONTACT = 1
 
@@ -89,7 +90,7 @@ class RigidSliderFilm:
             self.params, FilmScales(pressure=p_ref, length=L, gap=h_ref, element=dx), h_rms=h_ref
         )
         e0 = ufl.as_vector([1.0, 0.0, 0.0])
-        ctx = FilmContext(
+        ctx = SurfaceState(
             mesh=mesh, facet_tags=tags, contact_tag=CONTACT, x=ufl.SpatialCoordinate(mesh),
             F=ufl.Identity(3), N3=ufl.as_vector([0.0, -1.0, 0.0]), weight=1.0, gap=self.h,
             vector3=lambda v: ufl.as_vector([v[0], v[1], 0.0]),

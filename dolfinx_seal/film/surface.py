@@ -69,8 +69,9 @@ from mpi4py import MPI
 from dolfinx_seal.compat import interpolation_points
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_choice, check_positive, check_range
-from dolfinx_seal.solid import tractions
-from dolfinx_seal.solid.asperity import area_fraction
+from dolfinx_seal.surface import tractions
+from dolfinx_seal.surface.asperity import area_fraction
+from dolfinx_seal.surface.state import SurfaceState
 
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
 FLOW_FACTORS = ("none", "patir-cheng", "persson")
@@ -172,49 +173,6 @@ def pressure_flow_factor(model: str, gap: Any, h_rms: float, table: Any = None) 
     raise ParameterError(f"film.flow_factor = {model!r} must be one of {FLOW_FACTORS}")
 
 
-@dataclass
-class FilmContext:
-    """What the film needs from the body it lubricates (UFL objects).
-
-    Attributes:
-        mesh, facet_tags, contact_tag: The body and its lubricated surface.
-        x: Current position of the surface points (gdim vector).
-        F: 3x3 deformation gradient (identity for a rigid body).
-        N3: Reference outward normal as a 3-vector.
-        weight: Reference measure weight (1 in plane strain and 3D).
-        gap: Gap to the counter-surface [m].
-        vector3: Map of a gdim vector to a 3-vector.
-        e_n: Unit normal of the counter-surface pointing into the body (3-vector).
-        sliding: Unit sliding direction of the counter-surface (3-vector).
-        quadrature_degree: Quadrature degree of the film integrals (None: UFL's estimate).
-        edge_axis: Direction (3-vector of floats) that orders the edges of the
-            lubricated zone: ``inlet_pressure`` acts on the edge at its low end,
-            ``outlet_pressure`` on the high end (None: the sliding direction).  A
-            seal's film has its oil side low and its air side high along the
-            axis, whichever way the shaft moves.
-        transport: Whether the sliding moves fluid across the lubricated zone (the
-            Couette flux in the Reynolds equation).  False where the sliding is
-            normal to every surface gradient (a turning shaft under an
-            axisymmetric lip): the Couette shear still acts, the flux term is not
-            assembled.
-    """
-
-    mesh: dolfinx.mesh.Mesh
-    facet_tags: dolfinx.mesh.MeshTags
-    contact_tag: int
-    x: Any
-    F: Any
-    N3: Any
-    weight: Any
-    gap: Any
-    vector3: Any
-    e_n: Any
-    sliding: Any
-    quadrature_degree: int | None = None
-    edge_axis: Any = None
-    transport: bool = True
-
-
 class SurfaceFilm:
     """Film unknowns, residuals, bounds and tractions on a lubricated surface.
 
@@ -262,7 +220,7 @@ class SurfaceFilm:
         self.has_transport = self.has_couette  # set from the context in attach
 
     # ------------------------------------------------------------------ set-up
-    def attach(self, ctx: FilmContext, p_cont: Any = None) -> None:
+    def attach(self, ctx: SurfaceState, p_cont: Any = None) -> None:
         """Create the film unknowns and forms on ``ctx`` (``p_cont``: asperity pressure)."""
         pr, sc = self.params, self.scales
         mesh = ctx.mesh
@@ -359,7 +317,7 @@ class SurfaceFilm:
             self.bcs.append(dolfinx.fem.dirichletbc(one, np.union1d(fixed, edge).astype(np.int32)))
         self.p_cont = p_cont
 
-    def _boundary_pressure(self, ctx: FilmContext, edge: np.ndarray) -> dolfinx.fem.Function:
+    def _boundary_pressure(self, ctx: SurfaceState, edge: np.ndarray) -> dolfinx.fem.Function:
         """Scaled boundary pressure: inlet value on upstream edge dofs, outlet downstream, 0 off the film."""
         f = dolfinx.fem.Function(self.S)
         self.boundary_values = f
@@ -367,9 +325,9 @@ class SurfaceFilm:
         self.set_edge_pressures(self.params.inlet_pressure, self.params.outlet_pressure)
         return f
 
-    def _split_edges(self, ctx: FilmContext, edge: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _split_edges(self, ctx: SurfaceState, edge: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Edge dofs (owned and ghost) at the low and at the high end of the zone
-        along :attr:`FilmContext.edge_axis` (default the sliding direction)."""
+        along :attr:`SurfaceState.edge_axis` (default the sliding direction)."""
         gdim = ctx.mesh.geometry.dim
         axis = ctx.sliding if ctx.edge_axis is None else ctx.edge_axis
         e = np.array([float(axis[i]) for i in range(gdim)])
@@ -497,7 +455,7 @@ class SurfaceFilm:
         fa = ufl.FacetArea(mesh)
         return fa if mesh.topology.dim == 2 else ufl.sqrt(2.0 * fa)
 
-    def _fixed_dofs(self, ctx: FilmContext) -> tuple[np.ndarray, np.ndarray]:
+    def _fixed_dofs(self, ctx: SurfaceState) -> tuple[np.ndarray, np.ndarray]:
         """Dofs (owned and ghost) off the lubricated surface, and on its edges.
 
         Marked through a scattered indicator so that every rank agrees on the
@@ -692,7 +650,6 @@ class SurfaceFilm:
 __all__ = [
     "CAVITATION_MODELS",
     "FLOW_FACTORS",
-    "FilmContext",
     "FilmParams",
     "FilmScales",
     "SurfaceFilm",

@@ -14,7 +14,6 @@ folder that holds another scene's or another parameter set's results unless
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 import math
 import time
@@ -27,6 +26,7 @@ from dolfinx_seal import params as _params
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.output import SweepWriter, check_out_dir, write_results, write_sweep_manifest
+from dolfinx_seal.params import set_parameter as set_parameter  # part of the scenes API
 
 #: scene name -> module that defines ``SCENE``.
 REGISTRY: dict[str, str] = {
@@ -156,7 +156,7 @@ def sweep_scene(
     """
     scene = get(name)
     out = Path(out_dir)
-    set_parameter(parameters, over, _get_parameter(parameters, over))  # unknown names stop here
+    set_parameter(parameters, over, _params.get_dotted(parameters, over))  # unknown names stop here
     record = _params.to_dict(parameters)
     check_out_dir(out, name, record, over=over, values=list(values), force=force)
     write_sweep_manifest(out, name, record, over, list(values))
@@ -202,32 +202,6 @@ def sweep_scene(
     }
     write_results(out, summary)
     return rows
-
-
-def _get_parameter(parameters: Any, dotted: str) -> Any:
-    """The value of ``dotted`` in ``parameters`` (``None`` where a name is unknown)."""
-    obj = parameters
-    for part in dotted.split("."):
-        if not (
-            dataclasses.is_dataclass(obj) and part in {f.name for f in dataclasses.fields(obj)}
-        ):
-            return None
-        obj = getattr(obj, part)
-    return obj
-
-
-def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
-    """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``."""
-    head, _, rest = dotted.partition(".")
-    fields = {f.name: f for f in dataclasses.fields(parameters)}
-    if head not in fields:
-        raise ParameterError(f"unknown parameter {dotted!r}; allowed: {', '.join(sorted(fields))}")
-    if rest:
-        inner = set_parameter(getattr(parameters, head), rest, value)
-        return dataclasses.replace(parameters, **{head: inner})
-    data = _params.to_dict(parameters)
-    data[head] = value
-    return _params.from_mapping(type(parameters), data)
 
 
 def parse_values(spec: str) -> list[float]:

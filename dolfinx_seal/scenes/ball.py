@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import ufl
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep, start_coupled
 from dolfinx_seal.coupled.results import lubricated_results, write_fields, write_film_map
 from dolfinx_seal.coupled.sweep import SweepHooks, lubricated_sweep, plot_sweep
@@ -47,7 +48,6 @@ from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import (
     ContactLawParams,
     MaterialParams,
-    hertz_point,
     solve_dry,
     write_profile,
 )

@@ -1,10 +1,9 @@
-"""Pieces shared by the FEM scenes: material and contact-law parameters, Hertz
-reference formulas, the dry-contact solve with its warm start, and profile output.
+"""Pieces shared by the FEM scenes: material and contact-law parameters, the
+dry-contact solve with its warm start, and profile output.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from dolfinx_seal.contact.hertz import separation_of
 from dolfinx_seal.contact.persson import PerssonExponentialLaw, PerssonLaw
 from dolfinx_seal.errors import SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
@@ -105,24 +105,6 @@ class ContactLawParams:
         }
         cf.full = full  # the tabulated relation (inverse for warm starts)
         return cf, info
-
-
-def hertz_line(load_per_length: float, radius: float, e_star: float) -> tuple[float, float]:
-    """Hertz line contact: half-width ``a`` [m] and peak pressure ``p0`` [Pa]."""
-    a = math.sqrt(4.0 * load_per_length * radius / (math.pi * e_star))
-    return a, 2.0 * load_per_length / (math.pi * a)
-
-
-def hertz_point(load: float, radius: float, e_star: float) -> tuple[float, float]:
-    """Hertz point contact: radius ``a`` [m] and peak pressure ``p0`` [Pa]."""
-    a = (3.0 * load * radius / (4.0 * e_star)) ** (1.0 / 3.0)
-    return a, 3.0 * load / (2.0 * math.pi * a * a)
-
-
-def separation_of(law: Any, p: float) -> float:
-    """Mean separation [m] of ``law`` at pressure ``p`` (the full relation if known)."""
-    inv = getattr(law, "full", law)
-    return float(np.asarray(inv.separation(p)))
 
 
 def solve_dry(problem: Any, pressure_guess: Any, peak_guess: float) -> dict[str, Any]:

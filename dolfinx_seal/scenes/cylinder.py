@@ -31,6 +31,7 @@ from typing import Any
 
 import ufl
 
+from dolfinx_seal.contact.hertz import hertz_line, separation_of
 from dolfinx_seal.coupled.continuation import SpeedStepping, boundary_start_speed, start_coupled
 from dolfinx_seal.coupled.results import lubricated_results, write_fields, write_film_profile
 from dolfinx_seal.coupled.sweep import SweepHooks, lubricated_sweep, plot_sweep
@@ -44,17 +45,15 @@ from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import (
     ContactLawParams,
     MaterialParams,
-    hertz_line,
-    separation_of,
     solve_dry,
     write_profile,
 )
-from dolfinx_seal.solid import tractions
-from dolfinx_seal.solid.asperity import area_fraction
 from dolfinx_seal.solid.counter_surface import Flat
 from dolfinx_seal.solid.kinematics import PlaneStrain
 from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem
 from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.surface import tractions
+from dolfinx_seal.surface.asperity import area_fraction
 
 
 @dataclass(frozen=True)
@@ -238,7 +237,13 @@ def run_lubricated(params: CylinderParameters, out: Path) -> dict[str, Any]:
     if params.solver == "partitioned":
         from dolfinx_seal.coupled.partitioned import partitioned_start
 
-        solve_info = partitioned_start(prob, params)
+        a_h, p_h = hertz_line(params.load, params.radius, params.material.E_star)
+        guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (prob.X[0] / a_h) ** 2, 0.0))
+        peak_gap = separation_of(prob.law, p_h) if prob.law is not None else params.roughness.h_rms
+        speeds = [min(params.film.speed, start_speed(params))]
+        while speeds[-1] < params.film.speed * (1 - 1e-12):  # half a decade per step
+            speeds.append(min(params.film.speed, speeds[-1] * 10**0.5))
+        solve_info = partitioned_start(prob, guess, peak_gap, speeds, params.relaxation)
     else:
         solve_info = start_lubricated(prob, params)
     a_h = info["hertz_half_width"]

@@ -70,11 +70,11 @@ from dolfinx_seal.scenes.lip_install import (
     moment_width,
     radial_balance,
 )
-from dolfinx_seal.solid import tractions
-from dolfinx_seal.solid.asperity import area_fraction
 from dolfinx_seal.solid.counter_surface import Shaft
 from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
 from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.surface import tractions
+from dolfinx_seal.surface.asperity import area_fraction
 
 MOTIONS = ("rotary", "reciprocating")
 ML_PER_H = 1e6 * 3600.0  # m^3/s -> ml/h

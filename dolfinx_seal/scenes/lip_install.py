@@ -50,12 +50,12 @@ from dolfinx_seal.params import check_int_range, check_nonnegative
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import ContactLawParams, MaterialParams, write_profile
-from dolfinx_seal.solid import tractions
 from dolfinx_seal.solid.counter_surface import Shaft
 from dolfinx_seal.solid.kinematics import Axisymmetric
 from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem, SteppingOptions
 from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.surface import tractions
 from geometry.lip import LipSealParams
 
 #: The default seal: an 80 x 100 x 10 mm radial shaft seal (ISO 6194-1 / DIN 3760

@@ -36,13 +36,13 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.film.surface import FilmContext
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
-from dolfinx_seal.solid import tractions
-from dolfinx_seal.solid.asperity import contact_pressure
 from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+from dolfinx_seal.surface import tractions
+from dolfinx_seal.surface.asperity import contact_pressure
+from dolfinx_seal.surface.state import SurfaceState
 
 
 @dataclass
@@ -110,7 +110,7 @@ class SolidContactProblem:
         kinematics: :mod:`~dolfinx_seal.solid.kinematics` object.
         material: :mod:`~dolfinx_seal.solid.materials` object.
         counter: :class:`~dolfinx_seal.solid.counter_surface.Flat` or ``Shaft``.
-        law: Contact law with a UFL form (see :func:`~dolfinx_seal.solid.asperity.contact_pressure`).
+        law: Contact law with a UFL form (see :func:`~dolfinx_seal.surface.asperity.contact_pressure`).
         contact_tag: Facet tag of the surface that may touch.
         dirichlet: Displacement conditions.
         control: ``"force"`` (counter position unknown, ``target`` = normal force
@@ -277,7 +277,7 @@ class SolidContactProblem:
             else:
                 sliding = _unit(gdim, sliding_axis)
             film.attach(
-                FilmContext(
+                SurfaceState(
                     mesh, facet_tags, contact_tag, self.x, self.F, self.N3, self.weight,
                     self.gap, kinematics.vector3, self.e_n, sliding, sqd,
                     edge_axis=getattr(counter, "edge_axis", lambda: None)(),

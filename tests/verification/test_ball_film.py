@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.output import column, read_csv
 from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
 from dolfinx_seal.scenes.ball import build_lubricated, start_lubricated
-from dolfinx_seal.scenes.common import hertz_point
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 from dolfinx_seal.verification.parallel import copy_coupled_state
 

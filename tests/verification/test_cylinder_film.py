@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.output import column, read_csv
 from dolfinx_seal.scenes import make_parameters, run_scene, sweep_scene
-from dolfinx_seal.scenes.common import hertz_line
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.verification import slider
 from dolfinx_seal.verification.line_ehl import for_cylinder, speed_continuation

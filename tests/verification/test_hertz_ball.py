@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import pytest
 
+from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.scenes import make_parameters, run_scene
-from dolfinx_seal.scenes.common import hertz_point
 
 A_H, P_H = hertz_point(1.3, 0.01, 1.2e6 / 0.75)
 

@@ -16,9 +16,10 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.scenes import make_parameters, run_scene
-from dolfinx_seal.scenes.common import MaterialParams, hertz_line
+from dolfinx_seal.scenes.common import MaterialParams
 
 A_H, P_H = hertz_line(100.0, 0.01, 10e6 / 0.75)
 
