@@ -25,6 +25,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_int_range, check_positive, check_range
+from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,14 @@ class SpeedStepping:
         check_range("grow", self.grow, 1.0, 4.0)
         check_int_range("easy", self.easy, 1)
         check_int_range("max_failures", self.max_failures, 0)
+
+    def control(self) -> StepControl:
+        """The step control of the walk in log10 |speed| (a failed target resets the
+        step to :attr:`max_decades`)."""
+        return StepControl(
+            first=self.max_decades, grow=self.grow, easy=self.easy, cut=0.5,
+            min_step=self.min_decades, max_step=self.max_decades, reset_step=self.max_decades,
+        )  # fmt: skip
 
 
 @dataclass
@@ -106,14 +115,9 @@ def speed_sweep(
             "film.speed: a continuation chain cannot change the sliding direction; "
             "sweep each direction from its own start"
         )
-    film = prob.film
-    # the last two converged (log10 speed, state): a secant predictor in log speed
-    history: list[tuple[float, list[Any]]] = [
-        (math.log10(abs(float(film.speed.value))), prob._state())
-    ]
     presolver = FilmPresolver(prob) if st.film_presolve else None
     try:
-        return _walk(prob, speeds, on_point, results, st, history, presolver)
+        return _walk(prob, speeds, on_point, results, st, presolver, signs.pop())
     finally:
         if presolver is not None:
             presolver.destroy()
@@ -125,14 +129,23 @@ def _walk(
     on_point: Callable[[float, dict[str, Any]], None],
     results: Callable[[], dict[str, Any]],
     st: SpeedStepping,
-    history: list[tuple[float, list[Any]]],
     presolver: FilmPresolver | None,
+    sign: float,
 ) -> list[SweepRecord]:
-    """The target loop of :func:`speed_sweep`."""
+    """The target loop of :func:`speed_sweep`: one adaptive walk in log10 |speed|
+    (:class:`~dolfinx_seal.solvers.adaptive.AdaptiveWalk`) carried from target to target."""
     film = prob.film
     log = get_logger()
     records: list[SweepRecord] = []
-    step = st.max_decades
+    rec = SweepRecord(speed=0.0, converged=False)
+
+    def solve(speed: float) -> int:
+        return _coupled_step(prob, walker.history, speed, st, presolver, rec).newton_iterations
+
+    walker = AdaptiveWalk(
+        st.control(), film.set_speed, solve, prob.state, prob.restore,
+        coordinate=AdaptiveWalk.log_speed(sign), name=f"{prob.name} speed continuation",
+    )  # fmt: skip
     failures = 0
     for i, target in enumerate(speeds):
         if st.max_failures and failures >= st.max_failures:
@@ -144,50 +157,26 @@ def _walk(
             break
         rec = SweepRecord(speed=float(target), converged=False)
         t0 = time.perf_counter()
-        current = float(film.speed.value)
-        while True:
-            dist = math.log10(target / current)
-            if abs(dist) < 1e-12:
-                rec.converged = True
-                break
-            s_try = target if abs(dist) <= step else current * 10 ** math.copysign(step, dist)
-            saved = prob._state()
-            film.set_speed(s_try)
-            try:
-                hist = _coupled_step(prob, history, s_try, st, presolver, rec, saved)
-            except SolverError as e:
-                prob._restore(saved)
-                film.set_speed(current)
-                step *= 0.5
-                log.info(
-                    "speed step to %.4g m/s failed (%s); step %.3g decades", s_try, e.what, step
-                )
-                if step < st.min_decades:
-                    rec.error = f"{e.what} ({e.where})"
-                    step = st.max_decades
-                    break
-                continue
-            rec.newton_iterations += hist.newton_iterations
-            rec.steps += 1
-            if s_try != target:
-                rec.intermediate.append(s_try)
-            current = s_try
-            history = [history[-1], (math.log10(abs(s_try)), prob._state())]
-            if hist.newton_iterations <= st.easy:
-                step = min(step * st.grow, st.max_decades)
+        res = walker.walk(float(film.speed.value), float(target))
+        rec.converged = res.converged
+        rec.newton_iterations = res.newton_iterations
+        rec.steps = res.steps
+        rec.intermediate = [a.value for a in res.accepted if a.value != float(target)]
+        if not res.converged and res.last_error is not None:
+            rec.error = f"{res.last_error.what} ({res.last_error.where})"
         rec.wall_time_s = time.perf_counter() - t0
         records.append(rec)
         failures = 0 if rec.converged else failures + 1
         if rec.converged:
-            res = results()
-            res.update(
+            out = results()
+            out.update(
                 newton_iterations=rec.newton_iterations,
                 film_presolve_iterations=rec.film_iterations,
                 continuation_steps=rec.steps,
                 wall_time_s=rec.wall_time_s,
                 converged=True,
             )
-            on_point(float(target), res)
+            on_point(float(target), out)
         else:
             log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
                       target, rec.error, float(film.speed.value))  # fmt: skip
@@ -201,13 +190,13 @@ def _coupled_step(
     st: SpeedStepping,
     presolver: FilmPresolver | None,
     rec: SweepRecord,
-    saved: list[Any],
 ) -> Any:
-    """One continuation step to ``speed`` from the converged state ``saved``: the
-    predictor, the film presolve (if any), the coupled Newton.  A coupled solve that
-    fails after the film presolve is retried once from the predictor alone (on the
-    S1 ball the presolved film is a state the coupled Newton cannot start from).
-    Returns the solve history; raises :class:`SolverError` if the step failed."""
+    """One continuation step to ``speed`` from the last converged state (the last of
+    ``history``): the predictor, the film presolve (if any), the coupled Newton.  A
+    coupled solve that fails after the film presolve is retried once from the
+    predictor alone (on the S1 ball the presolved film is a state the coupled Newton
+    cannot start from).  Returns the solve history; raises :class:`SolverError` if
+    the step failed."""
     where = f"{prob.name} at speed {speed:.4g} m/s"
     if st.predictor and len(history) == 2:
         secant_predictor(prob, history, speed)
@@ -219,7 +208,7 @@ def _coupled_step(
     except SolverError as e:
         get_logger().info("step to %.4g m/s after the film presolve failed (%s); "
                           "again without it", speed, e.what)  # fmt: skip
-        prob._restore(saved)
+        prob.restore(history[-1][1])
         if st.predictor and len(history) == 2:
             secant_predictor(prob, history, speed)
         return prob.solver.solve(where=where)
@@ -235,8 +224,8 @@ def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], spee
     pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
     closure = getattr(prob, "max_gap_closure", None)
     if closure:
-        pred = _safeguard_predictor(prob, prob._state(), pred, closure)
-    prob._restore(pred)
+        pred = _safeguard_predictor(prob, prob.state(), pred, closure)
+    prob.restore(pred)
 
 
 def _safeguard_predictor(
@@ -255,7 +244,7 @@ def _safeguard_predictor(
     scale = 1.0
     for _ in range(tries):
         trial = [s + scale * (p - s) for s, p in zip(saved, pred, strict=True)]
-        prob._restore(trial)
+        prob.restore(trial)
         dg = prob.film.owned_gaps() - g0
         ok = bool(np.all((-dg <= allowed) & (dg <= grown)))
         if comm.allreduce(ok, op=MPI.LAND):
@@ -357,7 +346,7 @@ def start_coupled(
     try:
         if stepping.film_presolve:  # loose coupled solve, film on that shape, then the rest
             its += _loose_start(prob, start)
-            loose = prob._state()
+            loose = prob.state()
             pre = FilmPresolver(prob)
             try:
                 film_start = pre.solve(f"{where} start")
@@ -371,7 +360,7 @@ def start_coupled(
                     e.what,
                 )
                 its += e.history.newton_iterations
-                prob._restore(loose)
+                prob.restore(loose)
                 its += prob.solve_at(1.0, where=start)
         else:
             its += prob.solve_at(1.0, where=start)
@@ -416,13 +405,13 @@ class FilmPresolver:
     def solve(self, where: str) -> int:
         """Solve from the current state; returns the Newton steps.  A failure
         restores the state it started from (the coupled solve then starts there)."""
-        saved = self.prob._state()
+        saved = self.prob.state()
         try:
             return self.solver.solve(
                 where=f"{where}: film on the predicted shape"
             ).newton_iterations
         except SolverError as e:
-            self.prob._restore(saved)
+            self.prob.restore(saved)
             get_logger().info("film presolve failed (%s); coupled solve from the predictor", e.what)
             return 0
 
@@ -480,26 +469,26 @@ def _ramp_flow_factor(prob: Any, where: str, min_step: float = 1.0 / 64) -> int:
     From the dry shape the Newton step with the full factor overshoots (the
     factor cuts the Poiseuille conductivity 5-10x at boundary-lubrication gaps)."""
     w = prob.film.flow_factor_weight
-    its, done, step = 0, 0.0, 0.25
-    while done < 1.0:
-        target = min(1.0, done + step)
-        saved = prob._state()
-        w.value = target
-        try:
-            its += prob.solve_at(1.0, where=f"{where}: flow factor weight {target:.3g}")
-            done = target
-            step = min(2.0 * step, 0.5)
-        except SolverError as e:
-            prob._restore(saved)
-            w.value = done
-            step /= 2.0
-            if step < min_step:
-                raise SolverError(
-                    f"flow factor could not be brought in beyond weight {done:.3g}: {e.what}",
-                    where=where,
-                    partial={"flow_factor_weight": done},
-                ) from e
-    return its
+    control = StepControl(first=0.25, grow=2.0, easy=None, cut=0.5, min_step=min_step,
+                          max_step=0.5)  # fmt: skip
+
+    def apply(weight: float) -> None:
+        w.value = weight
+
+    walk = AdaptiveWalk(
+        control, apply,
+        lambda t: prob.solve_at(1.0, where=f"{where}: flow factor weight {t:.3g}"),
+        prob.state, prob.restore, name=f"{prob.name} flow-factor homotopy",
+    )  # fmt: skip
+    res = walk.walk(0.0, 1.0)
+    if not res.converged:
+        raise SolverError(
+            f"flow factor could not be brought in beyond weight {res.reached:.3g}: "
+            f"{res.last_error.what if res.last_error else res.error}",
+            where=where,
+            partial={"flow_factor_weight": res.reached},
+        ) from res.last_error
+    return res.newton_iterations
 
 
 def order_speeds(values: Sequence[float], order: str) -> list[float]:

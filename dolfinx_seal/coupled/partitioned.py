@@ -28,6 +28,7 @@ from mpi4py import MPI
 
 from dolfinx_seal.errors import SolverError
 from dolfinx_seal.params import check_int_range, check_positive, check_range
+from dolfinx_seal.solid.step_limits import displacement_limiter
 from dolfinx_seal.solvers import NonlinearSolver
 
 
@@ -82,7 +83,7 @@ class PartitionedSolver:
         s_opts = dataclasses.replace(opts, snes_type="newtonls")
         limiter = None
         if prob.max_step or prob.max_gap_step:  # the problem's step limits, this layout
-            limiter = prob._step_limiter(prob.max_step, prob.max_gap_step, blocks=w_block)
+            limiter = displacement_limiter(prob, prob.max_step, prob.max_gap_step, blocks=w_block)
         self.solid = NonlinearSolver(
             w_block[0][0], prob.w, prob._dirichlet_bcs, options=s_opts,
             name=f"{prob.name} elasticity", step_limiter=limiter,

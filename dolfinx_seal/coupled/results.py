@@ -16,7 +16,6 @@ import numpy as np
 import ufl
 
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import area_fraction
 
 
@@ -38,8 +37,7 @@ def lubricated_results(
     load_fluid = sf * prob.integrate(film.normal_force_integrand(), ds)
     load_contact = 0.0
     if prob.p_cont is not None:
-        fn = -prob.p_cont * ufl.dot(tractions.nanson_normal(prob.F, prob.N3), prob.e_n)
-        load_contact = sf * prob.integrate(fn * prob.weight, ds)
+        load_contact = sf * prob.integrate(prob.asperity_force_integrand(), ds)
     normal = load_fluid + load_contact
     parts = {k: sf * prob.integrate(v, ds) for k, v in film.friction_parts().items()}
     friction = sum(parts.values())

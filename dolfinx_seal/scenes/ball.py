@@ -52,9 +52,11 @@ from dolfinx_seal.scenes.common import (
     write_profile,
 )
 from dolfinx_seal.scenes.cylinder import dry_results
+from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionControl
 from dolfinx_seal.solid.counter_surface import Flat
 from dolfinx_seal.solid.kinematics import Solid3D
-from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem
+from dolfinx_seal.solid.problem import SolidContactProblem
+from dolfinx_seal.solid.step_limits import StepLimits
 from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
@@ -188,15 +190,16 @@ def build_lubricated(
         snes_type="vinewtonssls" if params.film.cavitation == "jfo" else "vinewtonrsls",
     )  # fmt: skip
     factor = 2.0 if half else 1.0
-    prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, Solid3D(), params.material.build(), Flat(axis=2), law,
-        tm.tag("contact"), _bcs(params, tm), control="force" if position is None else "position",
-        target=params.load / factor if position is None else position,
-        position0=0.0 if position is None else position,
-        degree=params.degree, snes=snes, name="ball", max_step=0.5 * params.h_contact,
+    body = Body(Solid3D(), params.material.build(), _bcs(params, tm), degree=params.degree)
+    control = (ForceControl(params.load / factor) if position is None
+               else PositionControl(position, position0=position))  # fmt: skip
+    limits = StepLimits(
+        max_step=0.5 * params.h_contact, max_gap_closure=GAP_CLOSURE,
         max_gap_step=3.0 * _decay_length(law) if law is not None else None,
-        max_gap_closure=GAP_CLOSURE, film=film,
     )  # fmt: skip
+    prob = SolidContactProblem(tm.mesh, tm.facet_tags, body, Flat(axis=2), control,
+                               tm.tag("contact"), law=law, film=film, limits=limits, snes=snes,
+                               name="ball")  # fmt: skip
     info = {
         "hertz_contact_radius": a_h,
         "hertz_peak_pressure": p_h,
@@ -313,12 +316,12 @@ def build_dry(
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
     tm = _mesh(params, a_h, comm)
     factor = 2.0 if params.shape == "half" else 1.0
+    body = Body(Solid3D(), params.material.build(), _bcs(params, tm), degree=params.degree)
+    limits = StepLimits(max_step=0.5 * params.h_contact, max_gap_step=3.0 * _decay_length(law))
     prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, Solid3D(), params.material.build(), Flat(axis=2), law,
-        tm.tag("contact"), _bcs(params, tm),
-        control="force", target=params.load / factor, degree=params.degree,
-        snes=SNESOptions(max_it=60, dtol=1e12), name="ball", max_step=0.5 * params.h_contact,
-        max_gap_step=3.0 * _decay_length(law),
+        tm.mesh, tm.facet_tags, body, Flat(axis=2), ForceControl(params.load / factor),
+        tm.tag("contact"), law=law, limits=limits, snes=SNESOptions(max_it=60, dtol=1e12),
+        name="ball",
     )  # fmt: skip
     info = {"hertz_contact_radius": a_h, "hertz_peak_pressure": p_h, "symmetry_factor": factor,
             "contact_law": law.name, **law_info}  # fmt: skip

@@ -48,9 +48,11 @@ from dolfinx_seal.scenes.common import (
     solve_dry,
     write_profile,
 )
+from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionControl
 from dolfinx_seal.solid.counter_surface import Flat
 from dolfinx_seal.solid.kinematics import PlaneStrain
-from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem
+from dolfinx_seal.solid.problem import SolidContactProblem
+from dolfinx_seal.solid.step_limits import StepLimits
 from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import area_fraction
@@ -171,16 +173,19 @@ def build_lubricated(
         max_it=60, dtol=1e12, rtol=1e-11,
         snes_type="vinewtonssls" if params.film.cavitation == "jfo" else "vinewtonrsls",
     )  # fmt: skip
-    prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, PlaneStrain(), params.material.build() if params.bulk else None,
-        Flat(axis=1), law, tm.tag("contact"), [Dirichlet(tm.tag("load"))],
-        control="force" if position is None else "position",
-        target=params.load if position is None else position,
-        position0=0.0 if position is None else (position if position0 is None else position0),
-        degree=params.degree, snes=snes, name="cylinder",
+    body = Body(PlaneStrain(), params.material.build() if params.bulk else None,
+                [Dirichlet(tm.tag("load"))], degree=params.degree)  # fmt: skip
+    if position is None:
+        control: ForceControl | PositionControl = ForceControl(params.load)
+    else:
+        control = PositionControl(position, position if position0 is None else position0)
+    limits = StepLimits(
         max_step=max(0.5 * params.h_contact, a_h / 60.0) if params.bulk else None,
-        max_normal_step=0.5 * params.h_contact, film=film, bulk=params.bulk,
+        max_normal_step=0.5 * params.h_contact,
     )  # fmt: skip
+    prob = SolidContactProblem(tm.mesh, tm.facet_tags, body, Flat(axis=1), control,
+                               tm.tag("contact"), law=law, film=film, limits=limits, snes=snes,
+                               name="cylinder")  # fmt: skip
     info = {
         "hertz_half_width": a_h,
         "hertz_peak_pressure": p_h,
@@ -290,10 +295,11 @@ def run_dry(params: CylinderParameters, out: Path) -> dict[str, Any]:
     a_h, p_h = hertz_line(params.load, params.radius, e_star)
     law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
     tm = _mesh(params, a_h)
+    body = Body(PlaneStrain(), mat, [Dirichlet(tm.tag("load"))], degree=params.degree)
     prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, PlaneStrain(), mat, Flat(axis=1), law, tm.tag("contact"),
-        [Dirichlet(tm.tag("load"))], control="force", target=params.load, degree=params.degree,
-        snes=SNESOptions(max_it=40, dtol=1e12), name="cylinder", max_step=0.5 * params.h_contact,
+        tm.mesh, tm.facet_tags, body, Flat(axis=1), ForceControl(params.load), tm.tag("contact"),
+        law=law, limits=StepLimits(max_step=0.5 * params.h_contact),
+        snes=SNESOptions(max_it=40, dtol=1e12), name="cylinder",
     )  # fmt: skip
     X = prob.X
     guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a_h) ** 2, 0.0))

@@ -55,7 +55,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import ufl
 
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
 from dolfinx_seal.errors import ParameterError, SolverError
@@ -140,6 +139,12 @@ class LipParameters(LipInstallParameters):
             raise ParameterError(
                 "contact.model = 'none': the installed lip needs an asperity contact law"
             )
+        for name, own in (("inlet_pressure", "oil_pressure"), ("outlet_pressure", "air_pressure")):
+            if getattr(self.film, name) != 0.0:  # one name for one quantity
+                raise ParameterError(
+                    f"film.{name} = {getattr(self.film, name)!r} Pa: the lip's film edges hold "
+                    f"the sealed pressures; set {own} [Pa] instead"
+                )
         if self.film.flow_factor == "persson" and self.contact.model == "stiff":
             raise ParameterError(
                 "film.flow_factor = 'persson' needs a rough contact law (contact.model = "
@@ -343,7 +348,7 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
     ds = prob.ds_c
     speed = float(film.speed.value) if film.has_couette else 0.0
     load_fluid = prob.integrate(film.normal_force_integrand(), ds)
-    fn = -prob.p_cont * ufl.dot(tractions.nanson_normal(prob.F, prob.N3), prob.e_n) * prob.weight
+    fn = prob.asperity_force_integrand()
     load_contact = prob.integrate(fn, ds)
     normal = load_fluid + load_contact
     q_oil, q_air = film.edge_flows()  # outflows through the oil and the air end [m^3/s]

@@ -50,12 +50,13 @@ from dolfinx_seal.params import check_int_range, check_nonnegative
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import ContactLawParams, MaterialParams, write_profile
+from dolfinx_seal.solid.body import Body, Dirichlet, PositionControl
 from dolfinx_seal.solid.counter_surface import Shaft
 from dolfinx_seal.solid.kinematics import Axisymmetric
 from dolfinx_seal.solid.materials import LinearElastic
-from dolfinx_seal.solid.problem import Dirichlet, SolidContactProblem, SteppingOptions
+from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
+from dolfinx_seal.solid.step_limits import StepLimits
 from dolfinx_seal.solvers import SNESOptions
-from dolfinx_seal.surface import tractions
 from geometry.lip import LipSealParams
 
 #: The default seal: an 80 x 100 x 10 mm radial shaft seal (ISO 6194-1 / DIN 3760
@@ -204,12 +205,14 @@ def build_problem(
         forms = [t(prob) for t in terms]
         return sum(forms[1:], forms[0]) if forms else None
 
+    body = Body(Axisymmetric(), params.material.build(), [Dirichlet(tm.tag("clamped"))],
+                degree=params.degree)  # fmt: skip
+    limits = StepLimits(max_step=max_step or 0.5 * lp.h_contact, max_normal_step=0.5 * lp.h_contact)
     prob = _LipProblem(
-        tm.mesh, tm.facet_tags, Axisymmetric(), params.material.build(), counter or Shaft(), law,
-        tm.tag("contact"), [Dirichlet(tm.tag("clamped"))], control="position",
-        target=lp.shaft_radius, position0=position0, degree=params.degree,
-        snes=snes or SNESOptions(max_it=25), name=name, extra_residual=extra if terms else None,
-        max_step=max_step or 0.5 * lp.h_contact, max_normal_step=0.5 * lp.h_contact, film=film,
+        tm.mesh, tm.facet_tags, body, counter or Shaft(),
+        PositionControl(lp.shaft_radius, position0), tm.tag("contact"), law=law, film=film,
+        limits=limits, snes=snes or SNESOptions(max_it=25), name=name,
+        extra_residual=extra if terms else None,
     )  # fmt: skip
     prob.spring_scale = spring_scale
     return prob
@@ -413,7 +416,7 @@ def moment_width(prob: SolidContactProblem) -> tuple[float, float]:
     ellipse of half-width a gives ``w = 1.73 a``).  An integral, it converges with
     the mesh where a threshold on nodal pressures does not.
     """
-    fn = -prob.p_cont * ufl.dot(tractions.nanson_normal(prob.F, prob.N3), prob.e_n) * prob.weight
+    fn = prob.asperity_force_integrand()
     z = prob.x[1]
     m0 = prob.integrate(fn, prob.ds_c)
     m1 = prob.integrate(fn * z, prob.ds_c) / m0

@@ -33,11 +33,11 @@ class _Solver:
     def solve(self, where: str = "") -> SolveHistory:
         p = self.prob
         v = p.film.speed.value
-        jump = abs(math.log10(v / p.state[0]))
+        jump = abs(math.log10(v / p.sol[0]))
         if p.bad[0] <= v <= p.bad[1] or jump > p.max_jump:
-            p.state = [float("nan")]  # a failed solve leaves garbage behind
+            p.sol = [float("nan")]  # a failed solve leaves garbage behind
             raise SolverError("diverged", where=where)
-        p.state = [v]
+        p.sol = [v]
         h = SolveHistory()
         h.residual_norms = [1.0, 0.1, 1e-5, 1e-12]
         return h
@@ -48,15 +48,15 @@ class _Problem:
 
     def __init__(self, v0: float, bad: tuple[float, float], max_jump: float = 10.0) -> None:
         self.film = _Film(v0)
-        self.state = [v0]  # the "solution" remembers the speed it was solved at
+        self.sol = [v0]  # the "solution" remembers the speed it was solved at
         self.bad, self.max_jump = bad, max_jump
         self.solver = _Solver(self)
 
-    def _state(self) -> list[float]:
-        return list(self.state)
+    def state(self) -> list[float]:
+        return list(self.sol)
 
-    def _restore(self, s: list[float]) -> None:
-        self.state = list(s)
+    def restore(self, s: list[float]) -> None:
+        self.sol = list(s)
 
 
 def test_unreachable_target_is_recorded_and_the_sweep_goes_on():
@@ -67,7 +67,7 @@ def test_unreachable_target_is_recorded_and_the_sweep_goes_on():
     assert [r.converged for r in recs] == [True, False, True]
     assert done == [1e-3, 1e-1]  # the finished points, in order
     assert "diverged" in recs[1].error
-    assert prob.state == [1e-1]  # restored after each failure, then went on
+    assert prob.sol == [1e-1]  # restored after each failure, then went on
 
 
 def test_large_jumps_are_cut_into_steps():
@@ -115,7 +115,7 @@ def test_sweep_stops_after_consecutive_failures_and_keeps_its_points():
     assert all("not attempted" in r.error for r in recs[3:])
     assert min(calls) > 1e-5  # nothing below the second failed target was solved
     # the last good (intermediate) state is kept
-    assert prob.state == [prob.film.speed.value] and 5e-3 < prob.state[0] < 1e-2
+    assert prob.sol == [prob.film.speed.value] and 5e-3 < prob.sol[0] < 1e-2
     with pytest.raises(ParameterError, match="max_failures"):
         SpeedStepping(max_failures=-1)
 
@@ -129,7 +129,7 @@ class _SpoilingPresolver:
 
     def solve(self, where: str) -> int:
         self.calls += 1
-        self.prob.state = [1e-30]
+        self.prob.sol = [1e-30]
         return 7
 
     def destroy(self) -> None:
@@ -150,4 +150,4 @@ def test_a_step_spoiled_by_the_film_presolve_is_retried_without_it(monkeypatch):
     assert [r.steps for r in recs] == [2, 2]
     assert [r.film_iterations for r in recs] == [14, 14]
     assert made[0].calls == 4 and made[0].destroyed
-    assert prob.state == [1e-1]
+    assert prob.sol == [1e-1]

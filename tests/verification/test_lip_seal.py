@@ -140,6 +140,14 @@ def test_negative_rotary_speed_is_refused():
         make_parameters("lip", values={"film": {"speed": -1.0}})
 
 
+@pytest.mark.parametrize(("name", "own"), [("inlet_pressure", "oil_pressure"),
+                                           ("outlet_pressure", "air_pressure")])  # fmt: skip
+def test_film_edge_pressures_are_the_sealed_pressures(name, own):
+    """One name for one quantity: the lip's film edges hold oil_pressure / air_pressure."""
+    with pytest.raises(ParameterError, match=rf"film\.{name} = 1000.0 Pa.*set {own}"):
+        make_parameters("lip", values={"film": {name: 1e3}})
+
+
 @pytest.mark.slow
 def test_strokes_against_inverse_hydrodynamics():
     """The oil a rod carries out (out-stroke, +1 m/s) and can carry back
