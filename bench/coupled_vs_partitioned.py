@@ -99,15 +99,15 @@ def main(argv: list[str] | None = None) -> None:
         for lower in (10.0, 10**0.5):
             prob.film.set_speed(v / lower)
             prob.solver.solve(where="bench start")
-            history.append((math.log10(v / lower), prob._state()))
+            history.append((math.log10(v / lower), prob.state()))
         prob.film.set_speed(v)
         if args.predictor:  # the sweep's secant predictor (continuation.speed_sweep)
             secant_predictor(prob, history, v)
-        start = prob._state()
+        start = prob.state()
         rows = []
         mono = {}
         for snes_type in ("vinewtonrsls", "vinewtonssls"):
-            prob._restore(start)
+            prob.restore(start)
             prob.solver.set_snes_type(snes_type)
             prob.film.set_speed(v)
             t0 = time.perf_counter()
@@ -125,7 +125,7 @@ def main(argv: list[str] | None = None) -> None:
         prob.solver.set_snes_type("vinewtonrsls")
         t_ref, mu_ref = mono["vinewtonrsls"]
         for om in args.relaxations:
-            prob._restore(start)
+            prob.restore(start)
             prob.film.set_speed(v)
             ps = PartitionedSolver(prob)
             t0 = time.perf_counter()
@@ -158,7 +158,7 @@ def main(argv: list[str] | None = None) -> None:
             print0(f"| {v:.0e} | {r['scheme']} | {r['relaxation']:.2g} | {r['iterations']} | "
                    f"{r['newton']}{film} | {r['time']:.2f} | {r['x_linear']:.1f} | {r['x_monolithic']:.1f} | "
                    f"{r['mu_rel_diff']:.1e} | {r['converged']} |")  # fmt: skip
-        prob._restore(start)
+        prob.restore(start)
         prob.film.set_speed(v)
         prob.solver.solve(where="bench continue")
     if presolver is not None:

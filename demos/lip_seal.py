@@ -81,18 +81,18 @@ def leakage_line(lub: Any, p: Any, pressures: list[float], out: Path) -> list[di
     writer = SweepWriter(out, "leakage.csv")
     frozen = lub.problem.film.make_solver(lub.problem.solver.options, name="lip film")
     rows = []
-    state = lub.problem._state()
+    state = lub.problem.state()
     for i, mpa in enumerate(sorted(pressures)):
         t0 = time.perf_counter()
         pv = set_parameter(p, "oil_pressure", mpa * 1e6)
         info = lip.move_oil_pressure(lub, pv)
         r = lip.results(lub, pv)
-        coupled_state = lub.problem._state()
-        lub.problem._restore(state)  # the lip as installed, film alone
+        coupled_state = lub.problem.state()
+        lub.problem.restore(state)  # the lip as installed, film alone
         lip.apply_pressures(lub, pv, 1.0)
         frozen.solve(where=f"frozen lip at {mpa:g} MPa")
         q_frozen = lip.results(lub, pv)["leakage_rate"]
-        lub.problem._restore(coupled_state)
+        lub.problem.restore(coupled_state)
         row = {
             "oil_pressure": pv.oil_pressure,
             "leakage_rate": r["leakage_rate"],
