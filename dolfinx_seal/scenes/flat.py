@@ -53,17 +53,21 @@ from dolfinx_seal.params import (
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import PointCallback, Scene, set_parameter
 
-#: Why the groups below are not the FEM scenes' dataclasses
-#: (``scenes.common.MaterialParams``, ``ContactLawParams``, ``film.surface.FilmParams``):
-#: those modules import UFL/DOLFINx, which this pure-numpy scene must not, and most
-#: of their fields (material model and formulation, contact-law model, cavitation,
-#: flow factor, lubricated zone, boundary pressures) have no meaning in the
-#: mean-field theory.  The fields kept have the same names, units and meaning.
+# Why the groups below are not the FEM scenes' dataclasses (scenes.common.MaterialParams,
+# ContactLawParams, film.surface.FilmParams): those modules import UFL/DOLFINx, which
+# this pure-numpy scene must not, and most of their fields (material model and
+# formulation, contact-law model, cavitation, flow factor, lubricated zone, boundary
+# pressures) have no meaning in the mean-field theory.  The fields kept have the same
+# names, units and meaning.
 
 
 @dataclass(frozen=True)
 class ElasticParams:
     """The rubber block, linear elastic (the ``E``, ``nu`` of the FEM scenes' ``material``).
+
+    Not :class:`~dolfinx_seal.scenes.common.MaterialParams`: its module imports UFL
+    (this scene imports no DOLFINx) and its hyperelastic ``model``, ``formulation``
+    and ``c01_ratio`` mean nothing to the mean-field theory, which needs ``E*`` only.
 
     Attributes:
         E: Young's modulus [Pa].
@@ -86,6 +90,10 @@ class ElasticParams:
 @dataclass(frozen=True)
 class MeanFieldFilmParams:
     """The fluid of the mean-field theory (names as in the FEM scenes' ``film``).
+
+    Not :class:`~dolfinx_seal.film.surface.FilmParams`, whose module imports
+    DOLFINx and whose cavitation, flow factor, zone and boundary fields describe a
+    Reynolds film this theory does not solve; ``kappa`` is this theory's own.
 
     Attributes:
         speed: Sliding speed v of the substrate under the rubber [m/s], >= 0 (the
@@ -111,6 +119,10 @@ class MeanFieldFilmParams:
 @dataclass(frozen=True)
 class MeanFieldContactParams:
     """Persson's contact mechanics of the mean-field theory (names as in ``contact``).
+
+    Not :class:`~dolfinx_seal.scenes.common.ContactLawParams` (a UFL-importing
+    module, and a choice of law ``p_cont(u)`` where this theory uses Persson's
+    full ``A(zeta)``, ``u1(zeta)``); ``u_contact`` is this theory's own.
 
     Attributes:
         gamma: Yang-Persson factor (S1: 0.4).
