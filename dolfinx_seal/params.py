@@ -250,8 +250,10 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: 
     Nested dataclass fields take nested mappings (TOML tables).  A nested table
     changes only the keys it names: the others keep the enclosing class's default
     for that field (e.g. the ball's ``film.speed = 0.01`` survives
-    ``--set film.viscosity=0.05``), or those of ``base`` when given.
+    ``--set film.viscosity=0.05``), or those of ``base`` when given.  A name
+    that ``cls`` has renamed is refused with the new one (:func:`refuse_renamed`).
     """
+    refuse_renamed(cls, data, prefix)
     types_ = _field_types(cls)
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
@@ -276,6 +278,60 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: 
         if not prefix:
             raise
         raise ParameterError(_dotted_message(str(e), cls, prefix)) from None
+
+
+def refuse_renamed(cls: type, data: Mapping[str, Any], prefix: str = "") -> None:
+    """Refuse a parameter of ``data`` that dataclass ``cls`` no longer takes, naming its new name.
+
+    ``cls`` lists its old names in the class attribute ``RENAMED`` (a ``ClassVar``):
+    ``{old: new}`` or ``{old: (new, unit)}``, dotted names relative to ``cls``; the
+    unit (or the allowed values, or a conversion rule) is shown in brackets.  An
+    old table renames every parameter under it (``"modulus": "material"`` sends
+    ``modulus.tau`` to ``material.tau``) unless a longer old name matches
+    (``"modulus.kind": "material.model"``).  A name that is a parameter of ``cls``
+    is never refused, so an old plain parameter may become a table of the same
+    name (``contact = "exact"`` refused for ``contact.model``, ``[contact]``
+    tables accepted).  Keys of ``data`` may be nested mappings or dotted strings;
+    ``prefix`` (the dotted path of ``cls``) is prepended to the names shown.
+
+    Raises:
+        ParameterError: e.g. ``'velocity' was renamed: use 'film.speed' [m/s]``.
+    """
+    renamed: Mapping[str, str | tuple[str, str]] = getattr(cls, "RENAMED", None) or {}
+    if not renamed:
+        return
+
+    def leaves(node: Mapping[str, Any], head: str) -> Iterator[tuple[str, Any]]:
+        for key, value in node.items():
+            name = f"{head}{key}"
+            if isinstance(value, Mapping) and value:
+                yield from leaves(value, f"{name}.")
+            else:
+                yield name, value
+
+    def is_parameter(name: str, value: Any) -> bool:
+        """``name`` is a parameter of ``cls`` (a table if ``value`` is an empty one)."""
+        tp: Any = cls
+        for part in name.split("."):
+            if not _is_dataclass_type(tp) or part not in (types_ := _field_types(tp)):
+                return False
+            tp = types_[part]
+        return _is_dataclass_type(tp) == isinstance(value, Mapping)
+
+    for name, value in leaves(data, ""):
+        if is_parameter(name, value):
+            continue
+        parts = name.split(".")
+        for n in range(len(parts), 0, -1):  # the longest old name first
+            old = ".".join(parts[:n])
+            if old in renamed:
+                entry = renamed[old]
+                new, unit = (entry, "") if isinstance(entry, str) else entry
+                new_name = ".".join([new, *parts[n:]])
+                note = f" [{unit}]" if unit else ""
+                raise ParameterError(
+                    f"'{prefix}{name}' was renamed: use '{prefix}{new_name}'{note}"
+                )
 
 
 def _dotted_message(msg: str, cls: type, prefix: str) -> str:
@@ -374,6 +430,7 @@ def get_dotted(parameters: Any, dotted: str) -> Any:
 
 def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
     """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``."""
+    refuse_renamed(type(parameters), {dotted: value})
     head, _, rest = dotted.partition(".")
     fields = {f.name: f for f in dataclasses.fields(parameters)}
     if head not in fields:

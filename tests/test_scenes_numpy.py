@@ -14,9 +14,10 @@ from dolfinx_seal.cli import main
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.output import column, read_csv
+from dolfinx_seal.scenes.rubber_friction import s3_h_rms
 
 SCENE_DIR = Path(scenes.__file__).parent
-SMALL_RF = ["--set", "points_per_decade=10", "--set", "n_curve=21", "--set", "zeta_max=100"]
+SMALL_RF = ["--set", "points_per_decade=10", "--set", "n_curve=21", "--set", "roughness.q1=2e5"]
 SMALL_FLAT = ["--set", "points_per_decade=10", "--set", "n_pressures=16"]
 
 
@@ -31,12 +32,11 @@ def test_registered():
 
 def test_rubber_friction_cli_run(mpi_tmp_path):
     out = mpi_tmp_path / "rf"
-    assert (
-        main(["run", "rubber-friction", *SMALL_RF, "--set", "velocity=0.5", "--out", str(out)]) == 0
-    )
+    assert main(["run", "rubber-friction", *SMALL_RF, "--set", "speed=0.5", "--out", str(out)]) == 0
     res = load(out)
     assert res["scene"] == "rubber-friction"
-    assert res["parameters"]["velocity"] == 0.5 and res["parameters"]["modulus"]["kind"] == "sls"
+    assert res["parameters"]["speed"] == 0.5 and res["parameters"]["material"]["model"] == "sls"
+    assert res["speed"] == 0.5 and 1e-8 < res["speed_peak"] < 1e4
     assert res["mu"] > 0 and res["mu"] <= res["mu_peak"] * (1 + 1e-9)
     assert 0 < res["contact_area_fraction"] < 1 and res["converged"] is True
     assert "versions" in res and res["wall_time_s"] > 0
@@ -46,23 +46,24 @@ def test_rubber_friction_cli_run(mpi_tmp_path):
         assert (out / f).stat().st_size > 0
     curve = np.loadtxt(out / "mu_curve.csv", delimiter=",", skiprows=1)
     assert curve.shape == (21, 2) and np.all(curve[:, 1] >= 0)
+    assert res["mu_peak"] >= curve[:, 1].max() * (1 - 1e-12)  # the refined maximum
 
 
-def test_rubber_friction_velocity_sweep(mpi_tmp_path):
+def test_rubber_friction_speed_sweep(mpi_tmp_path):
     out = mpi_tmp_path / "rf_sweep"
     args = [
         "sweep",
         "rubber-friction",
         *SMALL_RF,
         "--over",
-        "velocity",
+        "speed",
         "--values",
         "1e-4:1e2:7:log",
     ]
     assert main([*args, "--out", str(out)]) == 0
     rows = read_csv(out / "sweep.csv")
     assert len(rows) == 7
-    v, mu = column(rows, "velocity"), column(rows, "mu")
+    v, mu = column(rows, "speed"), column(rows, "mu")
     np.testing.assert_allclose(v, np.geomspace(1e-4, 1e2, 7), rtol=1e-12)
     # the vectorised sweep equals independent single runs
     p = scenes.make_parameters("rubber-friction", overrides=SMALL_RF[1::2])
@@ -75,11 +76,13 @@ def test_rubber_friction_velocity_sweep(mpi_tmp_path):
 def test_rubber_friction_toml_and_python(mpi_tmp_path):
     toml = SCENE_DIR / "rubber-friction.toml"
     p = scenes.make_parameters("rubber-friction", toml, ["points_per_decade=10", "n_curve=21"])
-    assert p.zeta_max == 1000.0 and p.modulus.tau == 1e-3
+    assert p.roughness.q1 == 1000.0 * p.roughness.q0 and p.material.tau == 1e-3
+    # S3's q0 h0 = 1 at zeta_max = 1000, written as h_rms in the file
+    assert p.roughness.h_rms == pytest.approx(s3_h_rms(2000.0, 2e6, 0.85), rel=1e-15)
     res = scenes.run_scene("rubber-friction", p, mpi_tmp_path / "rf_toml")
     assert res["mu"] == pytest.approx(float(p.model().mu(np.array([1.0]))[0]), rel=1e-12)
     # a sweep over a nested parameter goes through the per-point path
-    rows = scenes.sweep_scene("rubber-friction", p, mpi_tmp_path / "rf_tau", "modulus.tau",
+    rows = scenes.sweep_scene("rubber-friction", p, mpi_tmp_path / "rf_tau", "material.tau",
                               [1e-3, 1e-2])  # fmt: skip
     # mu depends on v tau only: tau x10 at the same v is mu at 10 v
     assert rows[1]["mu"] == pytest.approx(float(p.model().mu(np.array([10.0]))[0]), rel=1e-9)
@@ -88,7 +91,7 @@ def test_rubber_friction_toml_and_python(mpi_tmp_path):
 def test_flat_cli_run_and_toml(mpi_tmp_path):
     out = mpi_tmp_path / "flat"
     toml = SCENE_DIR / "flat.toml"
-    argv = ["run", "flat", "--scene-file", str(toml), *SMALL_FLAT, "--set", "velocity=2e-5"]
+    argv = ["run", "flat", "--scene-file", str(toml), *SMALL_FLAT, "--set", "film.speed=2e-5"]
     assert main([*argv, "--out", str(out)]) == 0
     res = load(out)
     assert res["parameters"]["roughness"]["hurst"] == 0.8
@@ -104,7 +107,7 @@ def test_flat_cli_run_and_toml(mpi_tmp_path):
 
 def test_flat_sweep_shows_the_drop(mpi_tmp_path):
     out = mpi_tmp_path / "flat_sweep"
-    argv = ["sweep", "flat", *SMALL_FLAT, "--over", "velocity", "--values", "1e-6:1e-2:9:log"]
+    argv = ["sweep", "flat", *SMALL_FLAT, "--over", "film.speed", "--values", "1e-6:1e-2:9:log"]
     assert main([*argv, "--out", str(out)]) == 0
     rows = read_csv(out / "sweep.csv")
     mu, hp = column(rows, "mu"), [r["hydroplaning"] == "True" for r in rows]
@@ -115,17 +118,19 @@ def test_flat_sweep_shows_the_drop(mpi_tmp_path):
 
 def test_flat_python_api_equals_cli(mpi_tmp_path):
     p = scenes.make_parameters(
-        "flat", values={"velocity": 2e-5, "points_per_decade": 10, "n_pressures": 16}
+        "flat", values={"film": {"speed": 2e-5}, "points_per_decade": 10, "n_pressures": 16}
     )
     res = scenes.run_scene("flat", p, mpi_tmp_path / "flat_py")
-    direct = p.model().solve(p.eta * p.velocity)
+    direct = p.model().solve(p.film.viscosity * p.film.speed)
     assert res["mu"] == pytest.approx(direct.mu, rel=1e-12)
     assert math.isfinite(res["alpha"]) and res["alpha"] > 0
 
 
 def test_flat_full_contact_and_zero_speed(mpi_tmp_path):
     """p0 above E* slope: no area leaves contact; v = 0: dry contact, no fluid load."""
-    p = scenes.make_parameters("flat", overrides=["pressure=1e7", "velocity=0", *SMALL_FLAT[1::2]])
+    p = scenes.make_parameters(
+        "flat", overrides=["nominal_pressure=1e7", "film.speed=0", *SMALL_FLAT[1::2]]
+    )
     res = scenes.run_scene("flat", p, mpi_tmp_path / "flat_full")
     assert res["contact_area_fraction"] > 0.99 and res["hydroplaning"] is False
     assert res["p_fluid"] == 0.0 and res["sigma_fluid"] == 0.0
@@ -134,8 +139,9 @@ def test_flat_full_contact_and_zero_speed(mpi_tmp_path):
 
 @pytest.mark.parametrize(
     ("scene", "setting", "name"),
-    [("flat", "roughness.hurst=1.5", "roughness.hurst"), ("flat", "velocity=-1", "velocity"),
-     ("rubber-friction", "nu=0.7", "nu"), ("rubber-friction", "modulus.kind=maxwell", "modulus.kind"),
+    [("flat", "roughness.hurst=1.5", "roughness.hurst"), ("flat", "film.speed=-1", "film.speed"),
+     ("rubber-friction", "material.nu=0.7", "material.nu"),
+     ("rubber-friction", "material.model=maxwell", "material.model"),
      ("flat", "viscosity=1", "viscosity")],
 )  # fmt: skip
 def test_bad_parameters(scene, setting, name, capsys):

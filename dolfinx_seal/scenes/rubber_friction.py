@@ -1,21 +1,36 @@
 """Scene ``rubber-friction``: Persson's viscoelastic rubber friction (S3), no FEM.
 
-Rubber slides at ``velocity`` on a hard self-affine surface (S3 eq 35 with the
-S3 normalisation ``q0 h0``, cut off at ``q1 = zeta_max q0``) or a measured PSD
-table; the friction coefficient is S3 eq 30 with the contact function ``P(q)``
-of eq 31 (or the interpolation eq 34) and a modulus model: the S3 eq 38
-standard linear solid, a Prony series or a tabulated master curve with a
-WLF/Arrhenius shift.  Isothermal: no flash temperature.
+Rubber slides at ``speed`` on a hard rough surface -- the self-affine
+``roughness`` of the other scenes (a measured PSD or height map as there) --
+and the friction coefficient is S3 eq 30 with the contact function ``P(q)`` of
+eq 31 (or the interpolation eq 34: ``contact.model``) and a modulus model
+``material.model``: the S3 eq 38 standard linear solid, a Prony series or a
+tabulated master curve with a WLF/Arrhenius shift.  Isothermal: no flash
+temperature.
 
-``run`` computes ``mu`` at ``velocity`` and the whole curve ``mu(v)`` on
-``[v_min, v_max]`` (its peak ``mu_peak`` at ``v_peak``), writes
+S3 states the roughness as ``q0 h0`` (``C0 = (h0/q0)^2 H / (2 pi)``, with
+``<h^2> = h0^2/2`` for ``q1 -> inf``) and the cut-off as ``zeta_max = q1/q0``;
+here, as in every scene, ``roughness.h_rms`` is the rms height between ``q0``
+and ``q1`` and ``roughness.q1`` the cut-off [1/m]: :func:`s3_h_rms` converts
+(the defaults are S3 figure 11 at ``zeta_max = 100``, ``q0 h0 = 1``; the scene
+file ``rubber-friction.toml`` is ``zeta_max = 1000``).  Changing ``q1`` at fixed
+``h_rms`` changes ``C0``; S3's figure 11 keeps ``C0`` (give :func:`s3_h_rms` of
+the new ``q1``).  The old names (``velocity``, ``hurst``, ``q0``, ``q0h0``,
+``zeta_max``, ``psd_file``, ``sigma0``, ``nu``, ``contact``, ``modulus.*``,
+``v_min``, ``v_max``) are refused with the new one
+(:attr:`RubberFrictionParams.RENAMED`).
+
+``run`` computes ``mu`` at ``speed`` and the whole curve ``mu(v)`` on
+``[speed_min, speed_max]`` (its peak ``mu_peak`` at ``speed_peak``), writes
 ``results.json``, ``mu_curve.csv``, ``contact_function.csv`` and
-``rubber_friction.png``.  A sweep over ``velocity`` is vectorised.
+``rubber_friction.png``.  A sweep over ``speed`` is vectorised.  Scene-specific
+results: ``speed`` [m/s], ``mu_peak``, ``speed_peak`` [m/s] and
+``zeta_max_effective`` (the magnification ``q/q0`` where ``P(q)`` ends).
 
-Example (defaults = S3 figure 11, ``zeta_max = 100``)::
+Example (S3 figure 11 at ``zeta_max = 1000``, then a speed sweep at the defaults)::
 
-    dolfinx-seal run rubber-friction --set velocity=1 --set zeta_max=1000
-    dolfinx-seal sweep rubber-friction --over velocity --values 1e-8:1e4:200:log
+    dolfinx-seal run rubber-friction --scene-file dolfinx_seal/scenes/rubber-friction.toml
+    dolfinx-seal sweep rubber-friction --over speed --values 1e-8:1e4:200:log
 """
 
 from __future__ import annotations
@@ -23,7 +38,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -42,25 +57,46 @@ from dolfinx_seal.params import (
     check_positive,
     check_range,
 )
-from dolfinx_seal.roughness.psd import PowerSpectrum, SelfAffinePSD, read_psd_table
+from dolfinx_seal.roughness.psd import RoughnessParams, SelfAffinePSD
 from dolfinx_seal.scenes import PointCallback, Scene, set_parameter
 
 
+def s3_h_rms(q0: float, q1: float, hurst: float, q0h0: float = 1.0) -> float:
+    """``roughness.h_rms`` [m] of S3's self-affine surface of ``q0 h0`` cut off at ``q1``.
+
+    S3 fixes ``C0 = (h0/q0)^2 H / (2 pi)`` with ``h0 = q0h0 / q0`` [m]; between
+    ``q0`` and ``q1`` [1/m] its rms height is ``h0 ((1 - (q1/q0)^(-2H)) / 2)^(1/2)``.
+    """
+    return SelfAffinePSD.from_q0h0(q0, q1, hurst, q0h0).h_rms()
+
+
+#: S3 figure 11: H = 0.85, q0 = 2000 1/m, q0 h0 = 1, zeta_max = q1/q0 = 100.
+S3_ROUGHNESS = {"hurst": 0.85, "q0": 2000.0, "q1": 2.0e5, "h_rms": s3_h_rms(2000.0, 2.0e5, 0.85)}
+
+
 @dataclass(frozen=True)
-class ModulusParams:
-    """Rubber modulus ``E(omega)`` (SI).
+class ViscoelasticParams:
+    """The rubber: modulus ``E(omega)`` and Poisson ratio (SI).
+
+    The viscoelastic counterpart of the FEM scenes' ``material`` (same group name,
+    ``model`` and ``nu``); not :class:`~dolfinx_seal.scenes.common.MaterialParams`,
+    whose models are hyperelastic (and whose module imports UFL, which this
+    pure-numpy scene must not).
 
     Attributes:
-        kind: ``"sls"`` (S3 eq 38), ``"prony"`` or ``"master"`` (tabulated, shifted).
+        model: ``"sls"`` (S3 eq 38), ``"prony"`` or ``"master"`` (tabulated, shifted).
+        nu: Poisson ratio of the rubber, in [0, 0.5].
         e1, a, tau: SLS glassy modulus [Pa], ``E(inf)/E(0) - 1``, relaxation time [s].
         e_inf, prony_moduli, prony_times: Prony series [Pa], [Pa], [s].
         file: Master-curve table ``omega [rad/s], E' [Pa], E'' [Pa]``.
         t_ref, temperature: Reference and evaluation temperature [K].
-        shift: ``"wlf"`` or ``"arrhenius"``; ``c1``, ``c2`` [K] (WLF) and
-            ``activation_energy`` [J/mol] (Arrhenius).
+        shift: ``"wlf"`` or ``"arrhenius"``: the shift of the master curve.
+        c1, c2: WLF constants [-], [K].
+        activation_energy: Arrhenius activation energy [J/mol].
     """
 
-    kind: str = "sls"
+    model: str = "sls"
+    nu: float = 0.5
     e1: float = 1.0e9
     a: float = 1000.0
     tau: float = 1.0e-3
@@ -76,24 +112,25 @@ class ModulusParams:
     activation_energy: float = 1.0e5
 
     def __post_init__(self) -> None:
-        check_choice("modulus.kind", self.kind, ("sls", "prony", "master"))
-        check_positive("modulus.e1", self.e1, "Pa")
-        check_positive("modulus.a", self.a)
-        check_positive("modulus.tau", self.tau, "s")
-        check_positive("modulus.e_inf", self.e_inf, "Pa")
-        check_positive("modulus.t_ref", self.t_ref, "K")
-        check_positive("modulus.temperature", self.temperature, "K")
-        check_choice("modulus.shift", self.shift, ("wlf", "arrhenius"))
-        if self.kind == "master" and not self.file:
+        check_choice("material.model", self.model, ("sls", "prony", "master"))
+        check_range("material.nu", self.nu, 0.0, 0.5)
+        check_positive("material.e1", self.e1, "Pa")
+        check_positive("material.a", self.a)
+        check_positive("material.tau", self.tau, "s")
+        check_positive("material.e_inf", self.e_inf, "Pa")
+        check_positive("material.t_ref", self.t_ref, "K")
+        check_positive("material.temperature", self.temperature, "K")
+        check_choice("material.shift", self.shift, ("wlf", "arrhenius"))
+        if self.model == "master" and not self.file:
             raise ParameterError(
-                "modulus.kind = 'master' needs modulus.file (omega, E', E'' table)"
+                "material.model = 'master' needs material.file (omega, E', E'' table)"
             )
 
     def build(self) -> Modulus:
         """The modulus object."""
-        if self.kind == "sls":
+        if self.model == "sls":
             return StandardLinearSolid(self.e1, self.a, self.tau)
-        if self.kind == "prony":
+        if self.model == "prony":
             return PronySeries(self.e_inf, self.prony_moduli, self.prony_times)
         return MasterCurve.from_file(
             self.file, t_ref=self.t_ref, temperature=self.temperature, shift=self.shift,
@@ -102,64 +139,82 @@ class ModulusParams:
 
 
 @dataclass(frozen=True)
+class ContactFunctionParams:
+    """The contact function ``P(q)`` (the ``contact`` group of the other scenes).
+
+    Attributes:
+        model: ``"exact"`` (S3 eq 31) or ``"interpolated"`` (eq 34).
+    """
+
+    model: str = "exact"
+
+    def __post_init__(self) -> None:
+        check_choice("contact.model", self.model, ("exact", "interpolated"))
+
+
+@dataclass(frozen=True)
 class RubberFrictionParams:
     """Parameters of the ``rubber-friction`` scene (defaults: S3 figure 11, SI units).
 
     Attributes:
-        velocity: Sliding speed [m/s].
-        hurst: Hurst exponent ``H`` of the substrate (S3: 0.85).
-        q0: Lower cut-off wavevector [1/m] (S3: 2000).
-        q0h0: S3's ``q0 h0`` with ``<h^2> = h0^2/2`` (S3: 1).
-        zeta_max: ``q1 / q0`` (S3 figure 11: 10, 100, 1000).
-        psd_file: Optional measured ``(q, C)`` table replacing the self-affine model.
-        sigma0: Nominal pressure [Pa] (mu is independent of it while ``sigma0 << E(0)``).
-        nu: Poisson ratio of the rubber.
-        contact: ``"exact"`` (S3 eq 31) or ``"interpolated"`` (eq 34).
-        modulus: Rubber modulus (nested table ``[parameters.modulus]``).
-        v_min, v_max, n_curve: Speed range [m/s] and points of the ``mu(v)`` curve.
+        speed: Sliding speed [m/s].
+        nominal_pressure: Nominal pressure [Pa] (mu is independent of it while it is
+            far below ``E(0)``).
+        material: The rubber (nested table ``[parameters.material]``).
+        roughness: The hard substrate (nested table ``[parameters.roughness]``;
+            default S3 figure 11: ``H = 0.85``, ``q0 = 2000`` 1/m, ``q1 = 100 q0``,
+            ``h_rms`` of ``q0 h0 = 1``, :func:`s3_h_rms`).
+        contact: The contact function (nested table ``[parameters.contact]``).
+        speed_min, speed_max, n_curve: Speed range [m/s] and points of the ``mu(v)`` curve.
         points_per_decade: ``q`` resolution of the integrals.
     """
 
-    velocity: float = 1.0
-    hurst: float = 0.85
-    q0: float = 2000.0
-    q0h0: float = 1.0
-    zeta_max: float = 100.0
-    psd_file: str = ""
-    sigma0: float = 1.0e5
-    nu: float = 0.5
-    contact: str = "exact"
-    modulus: ModulusParams = field(default_factory=ModulusParams)
-    v_min: float = 1.0e-8
-    v_max: float = 1.0e4
+    #: Old names -> new names (and units), refused by :func:`dolfinx_seal.params.refuse_renamed`.
+    RENAMED: ClassVar[dict[str, str | tuple[str, str]]] = {
+        "velocity": ("speed", "m/s"),
+        "sigma0": ("nominal_pressure", "Pa"),
+        "hurst": ("roughness.hurst", "-"),
+        "q0": ("roughness.q0", "1/m"),
+        "zeta_max": ("roughness.q1", "1/m; q1 = zeta_max * q0"),
+        "q0h0": (
+            "roughness.h_rms",
+            "m; the rms of S3's surface, h_rms = (q0h0/q0) ((1 - (q1/q0)^(-2 H))/2)^(1/2)",
+        ),
+        "psd_file": ("roughness.psd_file", "path"),
+        "nu": ("material.nu", "-"),
+        "modulus": "material",
+        "modulus.kind": ("material.model", "sls, prony or master"),
+        "contact": ("contact.model", "exact or interpolated"),
+        "v_min": ("speed_min", "m/s"),
+        "v_max": ("speed_max", "m/s"),
+    }
+
+    speed: float = 1.0
+    nominal_pressure: float = 1.0e5
+    material: ViscoelasticParams = field(default_factory=ViscoelasticParams)
+    roughness: RoughnessParams = field(default_factory=lambda: RoughnessParams(**S3_ROUGHNESS))
+    contact: ContactFunctionParams = field(default_factory=ContactFunctionParams)
+    speed_min: float = 1.0e-8
+    speed_max: float = 1.0e4
     n_curve: int = 121
     points_per_decade: int = 40
 
     def __post_init__(self) -> None:
-        check_positive("velocity", self.velocity, "m/s")
-        check_range("hurst", self.hurst, 0.0, 1.0, lo_open=True, hi_open=True)
-        check_positive("q0", self.q0, "1/m")
-        check_positive("q0h0", self.q0h0)
-        check_range("zeta_max", self.zeta_max, 1.0, math.inf, lo_open=True)
-        check_positive("sigma0", self.sigma0, "Pa")
-        check_range("nu", self.nu, 0.0, 0.5)
-        check_choice("contact", self.contact, ("exact", "interpolated"))
-        check_positive("v_min", self.v_min, "m/s")
-        check_range("v_max", self.v_max, self.v_min, math.inf, lo_open=True, unit="m/s (> v_min)")
+        check_positive("speed", self.speed, "m/s")
+        check_positive("nominal_pressure", self.nominal_pressure, "Pa")
+        check_positive("speed_min", self.speed_min, "m/s")
+        check_range(
+            "speed_max", self.speed_max, self.speed_min, math.inf, lo_open=True,
+            unit="m/s (> speed_min)",
+        )  # fmt: skip
         check_int_range("n_curve", self.n_curve, 5)
         check_int_range("points_per_decade", self.points_per_decade, 4)
-
-    def spectrum(self) -> PowerSpectrum:
-        """The substrate spectrum."""
-        if self.psd_file:
-            return read_psd_table(self.psd_file)
-        return SelfAffinePSD.from_q0h0(self.q0, self.q0 * self.zeta_max, self.hurst, self.q0h0)
 
     def model(self) -> RubberFriction:
         """The :class:`RubberFriction` model of these parameters."""
         return RubberFriction(
-            self.spectrum(), self.modulus.build(), self.sigma0, self.nu, self.contact,
-            self.points_per_decade,
+            self.roughness.build(), self.material.build(), self.nominal_pressure,
+            self.material.nu, self.contact.model, self.points_per_decade,
         )  # fmt: skip
 
 
@@ -167,7 +222,7 @@ def _point(model: RubberFriction, v: float, mu: float) -> dict[str, Any]:
     zeta, p = model.contact_function(v)
     return {
         "mu": mu,
-        "velocity": v,
+        "speed": v,
         "contact_area_fraction": float(p[-1]),
         "zeta_max_effective": float(zeta[-1]),
         "converged": True,
@@ -175,22 +230,22 @@ def _point(model: RubberFriction, v: float, mu: float) -> dict[str, Any]:
 
 
 def run(params: RubberFrictionParams, out_dir: Path) -> dict[str, Any]:
-    """``mu`` at ``params.velocity``, the curve ``mu(v)`` and its peak; files into ``out_dir``."""
+    """``mu`` at ``params.speed``, the curve ``mu(v)`` and its peak; files into ``out_dir``."""
     model = params.model()
-    mu = float(model.mu(np.array([params.velocity]))[0])
-    res = _point(model, params.velocity, mu)
-    v = np.geomspace(params.v_min, params.v_max, params.n_curve)
+    mu = float(model.mu(np.array([params.speed]))[0])
+    res = _point(model, params.speed, mu)
+    v = np.geomspace(params.speed_min, params.speed_max, params.n_curve)
     curve = model.mu(v)
-    v_peak, mu_peak = model.peak(params.v_min, params.v_max, params.n_curve)
-    res.update(mu_peak=mu_peak, v_peak=v_peak)
-    zeta, p = model.contact_function(params.velocity)
+    v_peak, mu_peak = model.peak(params.speed_min, params.speed_max, params.n_curve)
+    res.update(mu_peak=mu_peak, speed_peak=v_peak)
+    zeta, p = model.contact_function(params.speed)
     if COMM_WORLD.rank == 0:
         out_dir.mkdir(parents=True, exist_ok=True)
         np.savetxt(out_dir / "mu_curve.csv", np.column_stack((v, curve)), delimiter=",",
-                   header="velocity_m_s,mu", comments="")  # fmt: skip
+                   header="speed_m_s,mu", comments="")  # fmt: skip
         np.savetxt(out_dir / "contact_function.csv", np.column_stack((zeta, p)), delimiter=",",
                    header="zeta,P", comments="")  # fmt: skip
-        _plot_run(out_dir / "rubber_friction.png", v, curve, params.velocity, mu, zeta, p)
+        _plot_run(out_dir / "rubber_friction.png", v, curve, params.speed, mu, zeta, p)
     return res
 
 
@@ -201,11 +256,11 @@ def sweep(
     values: list[float],
     on_point: PointCallback,
 ) -> list[dict[str, Any]]:
-    """Sweep; over ``velocity`` all points are computed at once (vectorised)."""
+    """Sweep; over ``speed`` all points are computed at once (vectorised)."""
     rows: list[dict[str, Any]] = []
-    if name == "velocity":
+    if name == "speed":
         for v in values:
-            check_positive("velocity", v, "m/s")
+            check_positive("speed", v, "m/s")
         model = params.model()
         mus = model.mu(np.asarray(values, dtype=float))
         for v, m in zip(values, mus, strict=True):
@@ -216,9 +271,9 @@ def sweep(
     for v in values:
         p = set_parameter(params, name, v)
         model = p.model()
-        r = _point(model, p.velocity, float(model.mu(np.array([p.velocity]))[0]))
-        vp, mp = model.peak(p.v_min, p.v_max, p.n_curve)
-        r.update(mu_peak=mp, v_peak=vp)
+        r = _point(model, p.speed, float(model.mu(np.array([p.speed]))[0]))
+        vp, mp = model.peak(p.speed_min, p.speed_max, p.n_curve)
+        r.update(mu_peak=mp, speed_peak=vp)
         on_point(v, r)
         rows.append(r)
     return rows
@@ -254,7 +309,7 @@ def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
 
     x = [float(r[name]) for r in rows]
     fig, ax = plt.subplots(figsize=(6, 4))
-    logx = name == "velocity" or (min(x) > 0 and max(x) / min(x) > 100)
+    logx = name == "speed" or (min(x) > 0 and max(x) / min(x) > 100)
     (ax.semilogx if logx else ax.plot)(x, [float(r["mu"]) for r in rows], "o-", ms=3)
     ax.set_xlabel(name)
     ax.set_ylabel("friction coefficient mu")

@@ -33,8 +33,8 @@ from dolfinx_seal.output import (
     write_text_atomic,
 )
 
-SMALL_RF = {"points_per_decade": 10, "n_curve": 21, "zeta_max": 100.0}
-SMALL_RF_CLI = ["--set", "points_per_decade=10", "--set", "n_curve=21", "--set", "zeta_max=100"]
+SMALL_RF = {"points_per_decade": 10, "n_curve": 21, "roughness": {"q1": 2.0e5}}
+SMALL_RF_CLI = ["--set", "points_per_decade=10", "--set", "n_curve=21", "--set", "roughness.q1=2e5"]
 
 
 def rf(**values):
@@ -184,7 +184,7 @@ def test_rerun_with_the_same_parameters_is_allowed(mpi_tmp_path):
     first = scenes.run_scene("rubber-friction", rf(), out)
     again = scenes.run_scene("rubber-friction", rf(), out)
     assert again["mu"] == first["mu"]
-    assert read_json(out / "results.json")["parameters"]["velocity"] == rf().velocity
+    assert read_json(out / "results.json")["parameters"]["speed"] == rf().speed
 
 
 def test_other_parameters_are_refused_naming_the_dotted_parameter(mpi_tmp_path):
@@ -194,12 +194,12 @@ def test_other_parameters_are_refused_naming_the_dotted_parameter(mpi_tmp_path):
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     COMM_WORLD.barrier()
     with pytest.raises(OutputFolderError) as e:
-        scenes.run_scene("rubber-friction", rf(velocity=0.5, modulus={"tau": 1e-2}), out)
+        scenes.run_scene("rubber-friction", rf(speed=0.5, material={"tau": 1e-2}), out)
     msg = str(e.value)
     assert isinstance(e.value, ParameterError)
     assert f"output folder {str(out)!r}: its results.json holds a single run of scene " in msg
-    assert "velocity = 1.0 there, 0.5 now" in msg
-    assert "modulus.tau = 0.001 there, 0.01 now" in msg
+    assert "speed = 1.0 there, 0.5 now" in msg
+    assert "material.tau = 0.001 there, 0.01 now" in msg
     assert "--force" in msg and "--out" in msg
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # nothing written
 
@@ -215,7 +215,9 @@ def test_another_scene_is_refused(mpi_tmp_path):
 def test_many_differences_are_cut_short(mpi_tmp_path):
     out = mpi_tmp_path / "many"
     scenes.run_scene("rubber-friction", rf(), out)
-    other = rf(velocity=0.5, nu=0.4, points_per_decade=12, n_curve=25, zeta_max=200.0)
+    other = rf(
+        speed=0.5, material={"nu": 0.4}, points_per_decade=12, n_curve=25, roughness={"q1": 4e5}
+    )
     with pytest.raises(OutputFolderError, match=r"; and 1 more\. Refusing"):
         scenes.run_scene("rubber-friction", other, out)
 
@@ -224,38 +226,38 @@ def test_force_writes_into_the_folder_and_says_so(mpi_tmp_path, caplog):
     out = mpi_tmp_path / "rf"
     scenes.run_scene("rubber-friction", rf(), out)
     with caplog.at_level(logging.WARNING, logger="dolfinx_seal"):
-        scenes.run_scene("rubber-friction", rf(velocity=0.5), out, force=True)
+        scenes.run_scene("rubber-friction", rf(speed=0.5), out, force=True)
     forced = [r for r in caplog.records if "writing into it anyway" in r.getMessage()]
     assert len(forced) == (1 if COMM_WORLD.rank == 0 else 0)
     if forced:
-        assert "velocity = 1.0 there, 0.5 now" in forced[0].getMessage()
-    assert read_json(out / "results.json")["parameters"]["velocity"] == 0.5
+        assert "speed = 1.0 there, 0.5 now" in forced[0].getMessage()
+    assert read_json(out / "results.json")["parameters"]["speed"] == 0.5
 
 
 def test_sweep_manifest_and_sweep_guard(mpi_tmp_path):
     out = mpi_tmp_path / "sweep"
     values = [1e-3, 1e-1, 10.0]
-    rows = scenes.sweep_scene("rubber-friction", rf(), out, "velocity", values)
+    rows = scenes.sweep_scene("rubber-friction", rf(), out, "speed", values)
     assert len(rows) == 3
     manifest = read_sweep_manifest(out)
     assert tuple(manifest) == output.MANIFEST_KEYS
     assert manifest["scene"] == "rubber-friction" and manifest["manifest"] == "dolfinx_seal sweep"
-    assert manifest["sweep_parameter"] == "velocity" and manifest["sweep_values"] == values
+    assert manifest["sweep_parameter"] == "speed" and manifest["sweep_values"] == values
     assert manifest["parameters"] == read_json(out / "results.json")["parameters"]
     # the same sweep again: allowed
-    assert len(scenes.sweep_scene("rubber-friction", rf(), out, "velocity", values)) == 3
+    assert len(scenes.sweep_scene("rubber-friction", rf(), out, "speed", values)) == 3
     with pytest.raises(OutputFolderError, match=r"sweep values \[0\.001, 0\.1, 10\.0\] there"):
-        scenes.sweep_scene("rubber-friction", rf(), out, "velocity", [1.0, 2.0])
-    with pytest.raises(OutputFolderError, match=r"over 'velocity', not over 'nu'"):
-        scenes.sweep_scene("rubber-friction", rf(), out, "nu", [0.4, 0.45])
-    with pytest.raises(OutputFolderError, match=r"zeta_max = 100\.0 there, 50\.0 now"):
-        scenes.sweep_scene("rubber-friction", rf(zeta_max=50.0), out, "velocity", values)
+        scenes.sweep_scene("rubber-friction", rf(), out, "speed", [1.0, 2.0])
+    with pytest.raises(OutputFolderError, match=r"over 'speed', not over 'material.nu'"):
+        scenes.sweep_scene("rubber-friction", rf(), out, "material.nu", [0.4, 0.45])
+    with pytest.raises(OutputFolderError, match=r"roughness\.q1 = 200000\.0 there, 100000\.0 now"):
+        scenes.sweep_scene("rubber-friction", rf(roughness={"q1": 1e5}), out, "speed", values)
     with pytest.raises(
         OutputFolderError,
-        match=r"a sweep of scene 'rubber-friction' over 'velocity', not a single run",
+        match=r"a sweep of scene 'rubber-friction' over 'speed', not a single run",
     ):
         scenes.run_scene("rubber-friction", rf(), out)
-    rows = scenes.sweep_scene("rubber-friction", rf(), out, "velocity", [1.0, 2.0], force=True)
+    rows = scenes.sweep_scene("rubber-friction", rf(), out, "speed", [1.0, 2.0], force=True)
     assert len(rows) == 2 and read_sweep_manifest(out)["sweep_values"] == [1.0, 2.0]
     assert len(read_csv(out / "sweep.csv")) == 2
 
@@ -266,21 +268,21 @@ def test_a_sweep_into_a_run_folder_is_refused(mpi_tmp_path):
     with pytest.raises(
         OutputFolderError, match=r"a single run of scene 'rubber-friction', not a sweep"
     ):
-        scenes.sweep_scene("rubber-friction", rf(), out, "velocity", [1.0])
+        scenes.sweep_scene("rubber-friction", rf(), out, "speed", [1.0])
     assert not (out / "sweep.json").exists() and not (out / "sweep.csv").exists()
 
 
 def test_unknown_sweep_parameter_stops_before_writing(mpi_tmp_path):
     out = mpi_tmp_path / "bad"
-    with pytest.raises(ParameterError, match="unknown parameter 'speed'"):
-        scenes.sweep_scene("rubber-friction", rf(), out, "speed", [1.0])
+    with pytest.raises(ParameterError, match=r"unknown parameter 'film\.speed'"):
+        scenes.sweep_scene("rubber-friction", rf(), out, "film.speed", [1.0])  # dry: no film
     assert not out.exists()
 
 
 def test_a_manifest_without_results_holds_nothing(mpi_tmp_path):
     """A sweep stopped before its first point leaves only sweep.json: no results to mix."""
     out = mpi_tmp_path / "stopped"
-    output.write_sweep_manifest(out, "flat", {"velocity": 1.0}, "velocity", [1.0])
+    output.write_sweep_manifest(out, "flat", {"film": {"speed": 1.0}}, "film.speed", [1.0])
     scenes.run_scene("rubber-friction", rf(), out)
     scenes.run_scene("rubber-friction", rf(), out)  # and the rerun is not refused by it either
 
@@ -289,7 +291,7 @@ def test_unknown_or_unreadable_contents_are_refused(mpi_tmp_path):
     out = mpi_tmp_path / "odd"
     if COMM_WORLD.rank == 0:
         out.mkdir()
-        (out / "sweep.csv").write_text("velocity,mu\r\n1.0,0.5\r\n")
+        (out / "sweep.csv").write_text("speed,mu\r\n1.0,0.5\r\n")
     COMM_WORLD.barrier()
     with pytest.raises(OutputFolderError, match=r"sweep\.csv with neither sweep\.json"):
         scenes.run_scene("rubber-friction", rf(), out)
@@ -310,13 +312,13 @@ def test_cli_refuses_a_mixed_folder_and_force_overrides(mpi_tmp_path, capsys):
     assert main(run) == 0
     assert main(run) == 0  # the same run again
     capsys.readouterr()
-    assert main([*run, "--set", "modulus.tau=1e-2"]) == 2
+    assert main([*run, "--set", "material.tau=1e-2"]) == 2
     err = capsys.readouterr().err
-    assert "parameter error" in err and "modulus.tau = 0.001 there, 0.01 now" in err
+    assert "parameter error" in err and "material.tau = 0.001 there, 0.01 now" in err
     assert f"'{out}'" in err and "--force" in err
-    assert main([*run, "--set", "modulus.tau=1e-2", "--force"]) == 0
-    assert read_json(Path(out) / "results.json")["parameters"]["modulus"]["tau"] == 0.01
-    sweep = ["sweep", "rubber-friction", *SMALL_RF_CLI, "--over", "velocity", "--values", "1,2"]
+    assert main([*run, "--set", "material.tau=1e-2", "--force"]) == 0
+    assert read_json(Path(out) / "results.json")["parameters"]["material"]["tau"] == 0.01
+    sweep = ["sweep", "rubber-friction", *SMALL_RF_CLI, "--over", "speed", "--values", "1,2"]
     assert main([*sweep, "--out", out]) == 2
     assert "not a sweep" in capsys.readouterr().err
     assert main([*sweep, "--out", out, "--force"]) == 0

@@ -74,7 +74,7 @@ def test_run_prints_a_short_table_not_the_record(mpi_tmp_path, capsys):
 
 def test_sweep_prints_one_line_per_point(mpi_tmp_path, capsys):
     out = mpi_tmp_path / "flat_sweep"
-    argv = ["sweep", "flat", *SMALL_FLAT, "--over", "velocity", "--values", "1e-6:1e-4:3:log"]
+    argv = ["sweep", "flat", *SMALL_FLAT, "--over", "film.speed", "--values", "1e-6:1e-4:3:log"]
     assert main([*argv, "--out", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
     if COMM_WORLD.rank != 0:
@@ -82,6 +82,6 @@ def test_sweep_prints_one_line_per_point(mpi_tmp_path, capsys):
         return
     points = [ln for ln in lines if ln.startswith("[")]
     assert [p.split()[0] for p in points] == ["[1/3]", "[2/3]", "[3/3]"]
-    assert points[0].startswith("[1/3] velocity = 1e-06 m/s: mu ")
+    assert points[0].startswith("[1/3] film.speed = 1e-06 m/s: mu ")
     assert lines[-1].startswith("3 of 3 points finished")
     assert len(lines) == 4

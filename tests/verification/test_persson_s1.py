@@ -122,8 +122,8 @@ def drop_speed(model, eta: float) -> float:
 
 def test_flat_viscous_hydroplaning_drop(flat):
     params, model = flat
-    v_drop = drop_speed(model, params.eta)
-    mu = lambda v: model.solve(params.eta * v).mu  # noqa: E731
+    v_drop = drop_speed(model, params.film.viscosity)
+    mu = lambda v: model.solve(params.film.viscosity * v).mu  # noqa: E731
     print0(f"\nS1 fig-32 system: friction drop (onset of viscous hydroplaning) at v = "
            f"{v_drop * 1e6:.1f} um/s; mu = {mu(1e-7):.3f} at 0.1 um/s, {mu(0.5 * v_drop):.3f} at "
            f"v_drop/2, {mu(2 * v_drop):.4f} at 2 v_drop (S1: abrupt drop at v ~ 50 um/s)")  # fmt: skip
@@ -136,23 +136,23 @@ def test_flat_viscous_hydroplaning_drop(flat):
     # more than 50x within a factor 4 in speed, while it changes by < 10 % over the
     # decade below v_drop / 10
     below, above = (
-        model.solve(params.eta * v_drop * 0.999),
-        model.solve(params.eta * v_drop * 1.001),
+        model.solve(params.film.viscosity * v_drop * 0.999),
+        model.solve(params.film.viscosity * v_drop * 1.001),
     )
     assert below.sigma_contact > 0 and above.sigma_contact == 0.0
     assert mu(0.5 * v_drop) > 50 * mu(2 * v_drop)
     assert abs(mu(v_drop / 100) / mu(v_drop / 10) - 1) < 0.1
     # load balance at every magnification (S1 eq 31)
-    r = model.solve(params.eta * 1e-5)
-    np.testing.assert_allclose(r.p_contact + r.p_fluid, params.pressure, rtol=1e-12)
+    r = model.solve(params.film.viscosity * 1e-5)
+    np.testing.assert_allclose(r.p_contact + r.p_fluid, params.nominal_pressure, rtol=1e-12)
     assert np.all(np.diff(r.area) <= 1e-15)
 
 
 def test_flat_drop_converged_in_magnification(flat):
     params, model = flat
-    v30 = drop_speed(model, params.eta)
+    v30 = drop_speed(model, params.film.viscosity)
     fine = FlatParams(points_per_decade=60).model()
-    assert drop_speed(fine, params.eta) == pytest.approx(v30, rel=0.03)
+    assert drop_speed(fine, params.film.viscosity) == pytest.approx(v30, rel=0.03)
 
 
 def test_flat_dry_limit(flat, law):
@@ -160,6 +160,10 @@ def test_flat_dry_limit(flat, law):
     params, model = flat
     r = model.solve(0.0)
     assert r.p_fluid1 == 0.0 and r.sigma_fluid == 0.0
-    a = float(model.theory.area_fraction(np.array([params.pressure]), np.array([r.zeta1]))[0])
+    a = float(
+        model.theory.area_fraction(np.array([params.nominal_pressure]), np.array([r.zeta1]))[0]
+    )
     assert r.area1 == pytest.approx(a, rel=2e-3)  # a(zeta) interpolated between nodes
-    assert r.mu == pytest.approx(params.sigma1 * r.area1 / params.pressure, rel=1e-12)
+    assert r.mu == pytest.approx(
+        params.film.asperity_shear * r.area1 / params.nominal_pressure, rel=1e-12
+    )
