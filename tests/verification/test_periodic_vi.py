@@ -1,0 +1,189 @@
+"""The assembly seam: a periodic variational inequality solved with the dolfinx_mpc
+assembly equals the same problem on a long non-periodic strip with the plain assembly.
+
+Obstacle problem on the periodic cell ``(0, 1) x (0, 1)`` (period 1 in ``x``):
+``-div(grad u) = f``, ``u = 0`` at ``y = 0, 1``, ``u >= psi``, with ``f`` and ``psi``
+periodic in ``x`` and without mirror symmetry (so a Neumann cell would not do).
+The periodic solution is also the solution, on ``0 <= x <= 1``, of the problem on
+the long strip ``(-K, 1 + K) x (0, 1)`` with natural conditions at the far ends,
+up to the end effect, which decays like ``exp(-pi d)`` at a distance ``d`` from the
+ends (the slowest mode ``sin(pi y)`` of the Laplacian with ``u = 0`` at ``y = 0, 1``;
+measured below).  Both meshes have the same vertices on ``[0, 1]``, so the two
+discrete solutions agree there to solver tolerance plus ``exp(-pi K) max|u|``.
+"""
+
+from __future__ import annotations
+
+import dolfinx
+import numpy as np
+import pytest
+import ufl
+from mpi4py import MPI
+
+from dolfinx_seal.solvers import MPCAssembly, NonlinearSolver, SNESOptions
+
+dolfinx_mpc = pytest.importorskip("dolfinx_mpc")
+
+#: solver options of both solves: exact VI to round-off
+OPTS = dict(rtol=1e-12, atol=1e-13, max_it=60)
+
+
+def _load(x):
+    """The load f (UFL), periodic in x with period 1, no mirror symmetry."""
+    return -12.0 + 4.0 * ufl.sin(2 * np.pi * x[0] + 0.7)
+
+
+def _bump(x, c, w):
+    """Periodic bump around x = c (period 1), height 1, width about w."""
+    return np.exp((np.cos(2 * np.pi * (x - c)) - 1.0) / w**2)
+
+
+def _psi(x):
+    """Obstacle: two isolated patches, one astride the periodic seam x = 0 = 1."""
+    s = np.sin(np.pi * x[1]) ** 4
+    return -1.0 + s * (0.9 * _bump(x[0], 0.35, 0.6) + 0.8 * _bump(x[0], 0.97, 0.5))
+
+
+def _strip(comm, x0, x1, n, degree):
+    nx = round((x1 - x0) * n)
+    mesh = dolfinx.mesh.create_rectangle(
+        comm, [[x0, 0.0], [x1, 1.0]], [nx, n], dolfinx.mesh.CellType.quadrilateral
+    )
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree))
+    dofs = dolfinx.fem.locate_dofs_geometrical(
+        V, lambda x: np.isclose(x[1], 0.0) | np.isclose(x[1], 1.0)
+    )
+    bc = dolfinx.fem.dirichletbc(0.0, dofs, V)
+    return V, bc
+
+
+def _obstacle(V, bc, u, assembly=None, prefix=None):
+    mesh = V.mesh
+    v = ufl.TestFunction(V)
+    f = _load(ufl.SpatialCoordinate(mesh))
+    F = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx - f * v * ufl.dx
+    lower = dolfinx.fem.Function(u.function_space)
+    lower.interpolate(_psi)
+    return NonlinearSolver(
+        F, u, [bc], lower=lower, options=SNESOptions(**OPTS), assembly=assembly, name="obstacle"
+    )
+
+
+def _periodic(comm, n, degree):
+    V, bc = _strip(comm, 0.0, 1.0, n, degree)
+    mpc = dolfinx_mpc.MultiPointConstraint(V)
+    mpc.create_periodic_constraint_geometrical(
+        V,
+        lambda x: np.isclose(x[0], 1.0),
+        lambda x: np.vstack((x[0] - 1.0, x[1], x[2])),
+        [bc],
+    )
+    mpc.finalize()
+    u = dolfinx.fem.Function(mpc.function_space)
+    solver = _obstacle(V, bc, u, assembly=MPCAssembly(mpc))
+    return solver, u, mpc
+
+
+def _long(comm, n, degree, K):
+    V, bc = _strip(comm, -K, 1.0 + K, n, degree)
+    u = dolfinx.fem.Function(V)
+    return _obstacle(V, bc, u), u
+
+
+def _nodal(u, lo=0.0, hi=1.0):
+    """{(x, y) rounded: value} of the dofs with lo <= x <= hi, gathered on every rank."""
+    V = u.function_space
+    n = V.dofmap.index_map.size_local
+    X = V.tabulate_dof_coordinates()[:n, :2]
+    keep = (X[:, 0] >= lo - 1e-12) & (X[:, 0] <= hi + 1e-12)
+    parts = V.mesh.comm.allgather((X[keep], u.x.array[:n][keep].copy()))
+    out = {}
+    for xs, vs in parts:
+        for p, val in zip(np.round(xs, 9), vs, strict=True):
+            out[(p[0] + 0.0, p[1] + 0.0)] = val
+    return out
+
+
+def _max_diff(a, b):
+    assert a.keys() == b.keys()
+    return max(abs(a[k] - b[k]) for k in a)
+
+
+def _active_fraction(u):
+    """Fraction of the dofs off the Dirichlet rows that lie on the obstacle (bound active)."""
+    V = u.function_space
+    n = V.dofmap.index_map.size_local
+    psi = dolfinx.fem.Function(V)
+    psi.interpolate(_psi)
+    X = V.tabulate_dof_coordinates()[:n]
+    interior = (X[:, 1] > 1e-9) & (X[:, 1] < 1 - 1e-9)
+    on = np.abs(u.x.array[:n] - psi.x.array[:n]) < 1e-10
+    comm = V.mesh.comm
+    return comm.allreduce(int(np.sum(on & interior))) / comm.allreduce(int(np.sum(interior)))
+
+
+def _compare(n, degree, K):
+    comm = MPI.COMM_WORLD
+    sp, up, _ = _periodic(comm, n, degree)
+    hp = sp.solve()
+    sl, ul = _long(comm, n, degree, K)
+    hl = sl.solve()
+    assert hp.reason > 0 and hl.reason > 0
+    assert hp.complementarity < 1e-10 and hl.complementarity < 1e-10
+    a, b = _nodal(up), _nodal(ul)
+    frac = _active_fraction(up)
+    # the slaves (x = 1) equal their masters (x = 0) after backsubstitution
+    per = max(abs(a[(1.0, y)] - a[(0.0, y)]) for (x, y) in a if x == 0.0)
+    # the slaves are not frozen by the VI: they follow their masters onto the obstacle
+    on_slave = sum(1 for (x, y) in a if x == 1.0 and abs(a[(x, y)] - _psi_at(1.0, y)) < 1e-10)
+    on_master = sum(1 for (x, y) in a if x == 0.0 and abs(a[(x, y)] - _psi_at(0.0, y)) < 1e-10)
+    umax = max(abs(v) for v in a.values())
+    out = dict(diff=_max_diff(a, b), per=per, frac=frac, umax=umax, its=hp.newton_iterations)
+    out.update(on_slave=on_slave, on_master=on_master)
+    for s in (sp, sl):
+        s.destroy()
+    return out
+
+
+def _psi_at(x, y):
+    return float(_psi(np.array([[x], [y], [0.0]]))[0])
+
+
+def _check(r):
+    assert 0.03 < r["frac"] < 0.5, r  # the bound is active on part of the cell
+    # contact astride the seam: the slaves (x = 1) lie on the obstacle where their
+    # masters (x = 0) do, i.e. the VI neither freezes nor releases them by itself
+    assert r["on_master"] >= 2 and r["on_slave"] == r["on_master"], r
+    assert r["per"] <= 1e-13 * r["umax"], r  # backsubstitution: slave = master
+    # Solver tolerance: both VIs end with a Newton step on the final active set (a
+    # linear solve) after rtol = 1e-12 on the residual; the nodal error bound is
+    # cond(J) rtol max|u| ~ 1e2 * 1e-12 (Q1/Q2, n <= 32).  The end effect of the long
+    # strip is far below: measured (Q1, n = 16) 8.7e-5, 1.1e-7, 1.9e-13 max|u| at
+    # K = 1, 2, 4, a factor >= 700 per unit length, so < 1e-17 at K = 6.
+    # Measured difference: 6e-16 (Q1, n = 16), 4e-15 (Q2, n = 32).
+    assert r["diff"] <= 1e-10 * r["umax"], r
+
+
+def test_periodic_obstacle_mpc_equals_long_strip():
+    _check(_compare(16, 1, K=6))
+
+
+@pytest.mark.slow
+def test_periodic_obstacle_mpc_equals_long_strip_p2():
+    _check(_compare(32, 2, K=6))
+
+
+def test_periodicity_matters():
+    """The same cell with natural (Neumann) ends, plain assembly, differs by O(1):
+    the comparison above can fail."""
+    comm = MPI.COMM_WORLD
+    V, bc = _strip(comm, 0.0, 1.0, 16, 1)
+    un = dolfinx.fem.Function(V)
+    sn = _obstacle(V, bc, un)
+    sn.solve()
+    sp, up, _ = _periodic(comm, 16, 1)
+    sp.solve()
+    a, b = _nodal(up), _nodal(un)
+    assert _max_diff(a, b) > 1e-3 * max(abs(v) for v in a.values())
+    sn.destroy()
+    sp.destroy()
