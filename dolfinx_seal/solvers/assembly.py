@@ -270,8 +270,22 @@ class MPCAssembly(Assembly):
             for i in range(n)
         ]
         self._nest = PETSc.Mat().createNest(blocks, comm=self.comm)
+        # the blocks must be assembled with values before the nest is assembled or
+        # converted: assembling an empty block squeezes out its preallocated pattern,
+        # and later values are then dropped silently
+        self._assemble_blocks()
+        return self._nest.convert("aij", out=PETSc.Mat())  # a new matrix, not in place
+
+    def _assemble_blocks(self) -> None:
+        n = len(self.mpcs)
+        for i in range(n):
+            for j in range(n):
+                if self.a[i][j] is not None:
+                    Aij = self._nest.getNestSubMatrix(i, j)
+                    self._mpc.assemble_matrix(
+                        self.a[i][j], (self.mpcs[i], self.mpcs[j]), bcs=self.bcs, A=Aij
+                    )
         self._nest.assemble()
-        return self._nest.convert("aij")
 
     # ----------------------------------------------------------- assembly
     def _bcs_on(self, V: Any) -> list[Any]:
@@ -324,15 +338,7 @@ class MPCAssembly(Assembly):
             A.zeroEntries()
             mpc.assemble_matrix(self.a, self.mpcs[0], bcs=self.bcs, A=A)  # assembles A
             return
-        n = len(self.mpcs)
-        for i in range(n):
-            for j in range(n):
-                if self.a[i][j] is not None:
-                    Aij = self._nest.getNestSubMatrix(i, j)
-                    mpc.assemble_matrix(
-                        self.a[i][j], (self.mpcs[i], self.mpcs[j]), bcs=self.bcs, A=Aij
-                    )
-        self._nest.assemble()
+        self._assemble_blocks()
         self._nest.convert("aij", out=A)
         A.assemble()
 

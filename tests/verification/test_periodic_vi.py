@@ -187,3 +187,72 @@ def test_periodicity_matters():
     assert _max_diff(a, b) > 1e-3 * max(abs(v) for v in a.values())
     sn.destroy()
     sp.destroy()
+
+
+# ------------------------------------------------------- blocked, force control
+#: prescribed mean of u over the cell (force control: the mean load is unknown)
+U_MEAN = -0.4
+
+
+def _blocked(V, bc, u, cell_marker, assembly=None):
+    """Blocked VI: u (bounded) and a scifem real unknown lam, the mean load, such that
+    the mean of u over the cell (weighted by ``cell_marker``) is ``U_MEAN``."""
+    import scifem
+
+    mesh = V.mesh
+    R = scifem.create_real_functionspace(mesh)
+    lam = dolfinx.fem.Function(R)
+    v, mu = ufl.TestFunction(V), ufl.TestFunction(R)
+    x = ufl.SpatialCoordinate(mesh)
+    f = lam + 4.0 * ufl.sin(2 * np.pi * x[0] + 0.7)
+    F0 = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx - f * v * ufl.dx
+    F1 = cell_marker * (u - U_MEAN) * mu * ufl.dx
+    lower = dolfinx.fem.Function(u.function_space)
+    lower.interpolate(_psi)
+    lam.x.array[:] = -10.0
+    solver = NonlinearSolver(
+        [F0, F1], [u, lam], [bc], lower=[lower, None], options=SNESOptions(**OPTS),
+        assembly=assembly, name="obstacle, force control",
+    )  # fmt: skip
+    return solver, lam
+
+
+def _real_value(lam):
+    comm = lam.function_space.mesh.comm
+    return comm.allreduce(float(lam.x.array[0]) if lam.x.array.size else -np.inf, op=MPI.MAX)
+
+
+def test_blocked_periodic_obstacle_with_real_unknown():
+    """One constraint per block (None for the real unknown): the MPC blocks are
+    assembled separately and copied into one AIJ matrix; same answer as the long
+    strip with the plain block assembly, whose mean is taken over the middle cell."""
+    comm = MPI.COMM_WORLD
+    V, bc = _strip(comm, 0.0, 1.0, 16, 1)
+    mpc = dolfinx_mpc.MultiPointConstraint(V)
+    mpc.create_periodic_constraint_geometrical(
+        V, lambda x: np.isclose(x[0], 1.0), lambda x: np.vstack((x[0] - 1.0, x[1], x[2])), [bc]
+    )
+    mpc.finalize()
+    up = dolfinx.fem.Function(mpc.function_space)
+    sp, lp = _blocked(V, bc, up, 1.0, assembly=MPCAssembly([mpc, None]))
+    hp = sp.solve()
+    K = 6
+    Vl, bcl = _strip(comm, -K, 1.0 + K, 16, 1)
+    ul = dolfinx.fem.Function(Vl)
+    Q = dolfinx.fem.functionspace(Vl.mesh, ("DG", 0))
+    marker = dolfinx.fem.Function(Q)
+    marker.interpolate(lambda x: ((x[0] > 0.0) & (x[0] < 1.0)).astype(np.float64))
+    sl, ll = _blocked(Vl, bcl, ul, marker)
+    hl = sl.solve()
+    assert hp.reason > 0 and hl.reason > 0 and hp.complementarity < 1e-10
+    a, b = _nodal(up), _nodal(ul)
+    umax = max(abs(v) for v in a.values())
+    assert _active_fraction(up) > 0.03
+    assert max(abs(a[(1.0, y)] - a[(0.0, y)]) for (x, y) in a if x == 0.0) <= 1e-13 * umax
+    # tolerance as in _check (solver tolerance; end effect < 1e-17 at K = 6)
+    assert _max_diff(a, b) <= 1e-10 * umax
+    lam_p, lam_l = _real_value(lp), _real_value(ll)
+    assert -20.0 < lam_p < -5.0  # a load pressing u onto the obstacle
+    assert abs(lam_p - lam_l) <= 1e-10 * abs(lam_p)
+    sp.destroy()
+    sl.destroy()
