@@ -57,7 +57,7 @@ def _strip(comm, x0, x1, n, degree):
     return V, bc
 
 
-def _obstacle(V, bc, u, assembly=None, prefix=None):
+def _obstacle(V, bc, u, assembly=None, snes_type="vinewtonrsls"):
     mesh = V.mesh
     v = ufl.TestFunction(V)
     f = _load(ufl.SpatialCoordinate(mesh))
@@ -65,11 +65,17 @@ def _obstacle(V, bc, u, assembly=None, prefix=None):
     lower = dolfinx.fem.Function(u.function_space)
     lower.interpolate(_psi)
     return NonlinearSolver(
-        F, u, [bc], lower=lower, options=SNESOptions(**OPTS), assembly=assembly, name="obstacle"
+        F,
+        u,
+        [bc],
+        lower=lower,
+        options=SNESOptions(snes_type=snes_type, **OPTS),
+        assembly=assembly,
+        name="obstacle",
     )
 
 
-def _periodic(comm, n, degree):
+def _periodic(comm, n, degree, snes_type="vinewtonrsls"):
     V, bc = _strip(comm, 0.0, 1.0, n, degree)
     mpc = dolfinx_mpc.MultiPointConstraint(V)
     mpc.create_periodic_constraint_geometrical(
@@ -80,7 +86,7 @@ def _periodic(comm, n, degree):
     )
     mpc.finalize()
     u = dolfinx.fem.Function(mpc.function_space)
-    solver = _obstacle(V, bc, u, assembly=MPCAssembly(mpc))
+    solver = _obstacle(V, bc, u, assembly=MPCAssembly(mpc), snes_type=snes_type)
     return solver, u, mpc
 
 
@@ -122,10 +128,10 @@ def _active_fraction(u):
     return comm.allreduce(int(np.sum(on & interior))) / comm.allreduce(int(np.sum(interior)))
 
 
-def _compare(n, degree, K):
+def _compare(n, degree, K, snes_type="vinewtonrsls", penalty=False):
     comm = MPI.COMM_WORLD
-    sp, up, _ = _periodic(comm, n, degree)
-    hp = sp.solve()
+    sp, up, _ = _periodic(comm, n, degree, snes_type)
+    hp = sp.solve_penalty()[-1] if penalty else sp.solve()
     sl, ul = _long(comm, n, degree, K)
     hl = sl.solve()
     assert hp.reason > 0 and hl.reason > 0
@@ -164,8 +170,15 @@ def _check(r):
     assert r["diff"] <= 1e-10 * r["umax"], r
 
 
-def test_periodic_obstacle_mpc_equals_long_strip():
-    _check(_compare(16, 1, K=6))
+@pytest.mark.parametrize(
+    ("snes_type", "penalty"),
+    [("vinewtonrsls", False), ("vinewtonssls", False), ("vinewtonrsls", True)],
+    ids=["rsls", "ssls", "penalty_then_rsls"],
+)
+def test_periodic_obstacle_mpc_equals_long_strip(snes_type, penalty):
+    """Reduced-space and semi-smooth VI (the JFO film uses the latter), and the
+    penalty warm start (lumped mass through the MPC assembly) before the exact VI."""
+    _check(_compare(16, 1, K=6, snes_type=snes_type, penalty=penalty))
 
 
 @pytest.mark.slow
@@ -264,14 +277,22 @@ ALPHA = 2 * np.pi / N_SECTORS
 R0, R1 = 1.0, 2.0
 
 
-def _rotation(angle):
+#: height of the hollow cylinder (3D case)
+HEIGHT = 0.5
+
+
+def _rotation(angle, dim=2):
+    """Rotation by ``angle`` about the z axis (``dim x dim``)."""
     c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s], [s, c]])
+    R = np.eye(dim)
+    R[:2, :2] = [[c, -s], [s, c]]
+    return R
 
 
-def _annulus(comm, n_r, n_t, sectors):
-    """Structured quadrilateral mesh of ``sectors`` sectors (of ``N_SECTORS``) of the
-    annulus ``R0 < r < R1``; ``n_t`` cells per sector in angle.  The full annulus
+def _annulus(comm, n_r, n_t, sectors, n_z=0):
+    """Structured mesh of ``sectors`` sectors (of ``N_SECTORS``) of the annulus
+    ``R0 < r < R1`` (quadrilaterals), or with ``n_z > 0`` of the hollow cylinder of
+    height HEIGHT (hexahedra); ``n_t`` cells per sector in angle.  The full ring
     (``sectors = N_SECTORS``) closes on itself; its cells are rotated copies of the
     cells of one sector, so the two discrete problems match."""
     import basix.ufl
@@ -279,23 +300,36 @@ def _annulus(comm, n_r, n_t, sectors):
     full = sectors == N_SECTORS
     nt = sectors * n_t
     nodes_t = nt if full else nt + 1
+    dim = 3 if n_z else 2
+    nv = 2**dim
     if comm.rank == 0:
         r = np.linspace(R0, R1, n_r + 1)
         t = np.arange(nodes_t) * (ALPHA / n_t)
-        rr, tt = np.meshgrid(r, t, indexing="ij")
+        z = np.linspace(0.0, HEIGHT, n_z + 1)
+        kk, rr, tt = np.meshgrid(z, r, t, indexing="ij")  # node (k, i, j)
         x = np.column_stack((rr.ravel() * np.cos(tt.ravel()), rr.ravel() * np.sin(tt.ravel())))
-        node = lambda i, j: i * nodes_t + (j % nodes_t)  # noqa: E731
+        if dim == 3:
+            x = np.column_stack((x, kk.ravel()))
+
+        def node(k, i, j):
+            return (k * (n_r + 1) + i) * nodes_t + (j % nodes_t)
+
+        def quad(k, i, j):
+            return [node(k, i, j), node(k, i + 1, j), node(k, i, j + 1), node(k, i + 1, j + 1)]
+
         cells = np.array(
             [
-                [node(i, j), node(i + 1, j), node(i, j + 1), node(i + 1, j + 1)]
+                quad(k, i, j) + (quad(k + 1, i, j) if dim == 3 else [])
+                for k in range(max(n_z, 1))
                 for i in range(n_r)
                 for j in range(nt)
             ],
             dtype=np.int64,
         )
     else:
-        x, cells = np.zeros((0, 2)), np.zeros((0, 4), dtype=np.int64)
-    domain = ufl.Mesh(basix.ufl.element("Lagrange", "quadrilateral", 1, shape=(2,)))
+        x, cells = np.zeros((0, dim)), np.zeros((0, nv), dtype=np.int64)
+    cell = "hexahedron" if dim == 3 else "quadrilateral"
+    domain = ufl.Mesh(basix.ufl.element("Lagrange", cell, 1, shape=(dim,)))
     return dolfinx.mesh.create_mesh(comm, cells, x, domain)
 
 
@@ -307,7 +341,8 @@ def _elasticity(mesh, assembly_of=None, mixed=False):
     import basix.ufl
 
     cell = mesh.basix_cell()
-    el_u = basix.ufl.element("Lagrange", cell, 2, shape=(2,))
+    dim = mesh.geometry.dim
+    el_u = basix.ufl.element("Lagrange", cell, 2, shape=(dim,))
     if mixed:
         el_p = basix.ufl.element("Lagrange", cell, 1)
         W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([el_u, el_p]))
@@ -321,17 +356,19 @@ def _elasticity(mesh, assembly_of=None, mixed=False):
         bc = dolfinx.fem.dirichletbc(dolfinx.fem.Function(V0), dofs, Vu)
     else:
         dofs = dolfinx.fem.locate_dofs_geometrical(Vu, inner_ring)
-        bc = dolfinx.fem.dirichletbc(np.zeros(2), dofs, Vu)
+        bc = dolfinx.fem.dirichletbc(np.zeros(dim), dofs, Vu)
     assembly, Wu = (None, W) if assembly_of is None else assembly_of(W, bc)
     w = dolfinx.fem.Function(Wu)
     x = ufl.SpatialCoordinate(mesh)
     r = ufl.sqrt(x[0] ** 2 + x[1] ** 2)
     th = ufl.atan2(x[1], x[0])
-    e_r = ufl.as_vector((x[0] / r, x[1] / r))
-    e_t = ufl.as_vector((-x[1] / r, x[0] / r))
+    e_r = ufl.as_vector((x[0] / r, x[1] / r) + (0,) * (dim - 2))
+    e_t = ufl.as_vector((-x[1] / r, x[0] / r) + (0,) * (dim - 2))
     f = (1.0 + 0.5 * ufl.cos(N_SECTORS * th)) * e_r + (
         0.7 + ufl.sin(N_SECTORS * th + 0.3) * r
     ) * e_t
+    if dim == 3:  # axial load varying in angle and height
+        f = f + (0.4 * ufl.cos(N_SECTORS * th - 0.5) * x[2]) * ufl.as_vector((0, 0, 1))
     lmbda, mu = 1.5, 1.0
     if mixed:
         u, p = ufl.split(w)
@@ -340,7 +377,7 @@ def _elasticity(mesh, assembly_of=None, mixed=False):
         u, v = w, ufl.TestFunction(W)
         p = lmbda * ufl.div(u)
     eps = ufl.sym(ufl.grad(u))
-    sigma = 2 * mu * eps + p * ufl.Identity(2)
+    sigma = 2 * mu * eps + p * ufl.Identity(dim)
     F = ufl.inner(sigma, ufl.sym(ufl.grad(v))) * ufl.dx - ufl.inner(f, v) * ufl.dx
     if mixed:
         F = F + (ufl.div(u) - p / lmbda) * q * ufl.dx
@@ -355,7 +392,7 @@ def _sector_assembly(rotation, mixed=False):
         return np.isclose(np.arctan2(x[1], x[0]), ALPHA)
 
     def to_master(x):
-        return np.vstack((_rotation(-ALPHA) @ x[:2], x[2]))
+        return np.vstack((_rotation(-ALPHA) @ x[:2], x[2]))  # about the z axis
 
     def make(W, bc):
         mpc = dolfinx_mpc.MultiPointConstraint(W)
@@ -370,28 +407,26 @@ def _sector_assembly(rotation, mixed=False):
 
 
 def _vector_nodal(w, mixed=False):
-    """{(x, y) rounded: (u_x, u_y)} over the owned displacement dofs, on every rank."""
-    if mixed:
-        u = w.sub(0).collapse()
-    else:
-        u = w
+    """{point rounded: displacement} over the owned displacement dofs, on every rank."""
+    u = w.sub(0).collapse() if mixed else w
     V = u.function_space
+    dim = V.mesh.geometry.dim
     n = V.dofmap.index_map.size_local
-    X = V.tabulate_dof_coordinates()[:n, :2]
-    vals = u.x.array.reshape(-1, 2)[:n]
+    X = V.tabulate_dof_coordinates()[:n, :dim]
+    vals = u.x.array.reshape(-1, dim)[:n]
     out = {}
     for xs, vs in V.mesh.comm.allgather((X, vals.copy())):
         for p, val in zip(np.round(xs, 9), vs, strict=True):
-            out[(p[0] + 0.0, p[1] + 0.0)] = val
+            out[tuple(float(c) + 0.0 for c in p)] = val
     return out
 
 
-def _sector_vs_full(rotation, mixed=False, n_r=4, n_t=4):
+def _sector_vs_full(rotation, mixed=False, n_r=4, n_t=4, n_z=0):
     comm = MPI.COMM_WORLD
-    mesh_s = _annulus(comm, n_r, n_t, 1)
+    mesh_s = _annulus(comm, n_r, n_t, 1, n_z)
     ss, us = _elasticity(mesh_s, _sector_assembly(rotation, mixed), mixed=mixed)
     hs = ss.solve()
-    sf, uf = _elasticity(_annulus(comm, n_r, n_t, N_SECTORS), mixed=mixed)
+    sf, uf = _elasticity(_annulus(comm, n_r, n_t, N_SECTORS, n_z), mixed=mixed)
     hf = sf.solve()
     assert hs.reason > 0 and hf.reason > 0
     a, b = _vector_nodal(us, mixed), _vector_nodal(uf, mixed)
@@ -399,7 +434,7 @@ def _sector_vs_full(rotation, mixed=False, n_r=4, n_t=4):
     diff = max(np.abs(a[k] - b[k]).max() for k in a)
     umax = max(np.abs(v).max() for v in a.values())
     # the slave side (angle ALPHA) is the master side (angle 0) rotated
-    Rm = _rotation(ALPHA)
+    Rm = _rotation(ALPHA, len(rotation))
     on_master = [k for k in a if abs(k[1]) < 1e-12 and k[0] > R0 + 1e-9]
     seam = max(
         np.abs(a[tuple(np.round(Rm @ np.array(k), 9) + 0.0)] - Rm @ a[k]).max() for k in on_master
@@ -427,3 +462,14 @@ def test_rotational_periodic_sector_equals_full_annulus(mixed):
     if not mixed:  # without the rotation (plain periodicity) the answer is wrong
         diff_plain, umax_plain, _, _ = _sector_vs_full(np.eye(2))
         assert diff_plain > 1e-2 * umax_plain
+
+
+def test_rotational_periodic_sector_3d():
+    """A 60 degree sector of a hollow cylinder (vector Q2 on hexahedra, clamped inside,
+    radial, tangential and axial loads) with the slave displacement the master one
+    rotated about the axis: equals the full cylinder to round-off, as in 2D (measured
+    3.1e-15 max|u| on one rank, 2.9e-15 on two)."""
+    diff, umax, seam, n_master = _sector_vs_full(_rotation(ALPHA, 3), n_r=2, n_t=2, n_z=2)
+    assert n_master > 0
+    assert seam <= 1e-13 * umax
+    assert diff <= 1e-11 * umax, (diff, umax)
