@@ -32,6 +32,7 @@ angle), built from dolfinx_mpc's periodic search per component.
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -44,7 +45,7 @@ from dolfinx_seal import compat
 from dolfinx_seal.errors import ParameterError
 
 
-class Assembly:
+class Assembly(ABC):
     """The strategy protocol (and the common part of both strategies).
 
     The solver calls :meth:`setup` once with the compiled forms, the unknown(s)
@@ -65,25 +66,25 @@ class Assembly:
         self.blocked = isinstance(L, list | tuple)
         self.comm = (self.u[0] if self.blocked else self.u).function_space.mesh.comm
 
+    @abstractmethod
     def create_vector(self) -> PETSc.Vec:
         """A residual vector (the solution vector is a duplicate)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def create_matrix(self) -> PETSc.Mat:
         """The Jacobian matrix, with its sparsity pattern."""
-        raise NotImplementedError
 
+    @abstractmethod
     def residual(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """``b = F(x)`` (the functions already hold ``x``); Dirichlet rows hold ``x - g``."""
-        raise NotImplementedError
 
+    @abstractmethod
     def jacobian(self, A: PETSc.Mat) -> None:
         """``A = dF/dx`` at the functions' values (zeroed first, ``1`` on bc rows)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def assemble_linear(self, forms: Any, b: PETSc.Vec) -> None:
         """Assemble linear form(s) (one per block) into ``b`` without bcs (e.g. lumped mass)."""
-        raise NotImplementedError
 
     def to_functions(self, x: PETSc.Vec) -> None:
         """Copy the solution vector into the unknown function(s), ghosts included."""
@@ -109,7 +110,7 @@ class Assembly:
         """Zero the update ``dx`` (owned array of the solution vector) on constrained dofs."""
         dx[self.constrained_dofs()] = 0.0
 
-    def destroy(self) -> None:
+    def destroy(self) -> None:  # noqa: B027 - optional hook: the plain strategy owns nothing
         """Free PETSc objects owned by the strategy (collective)."""
 
 
@@ -170,7 +171,9 @@ class MPCAssembly(Assembly):
             sub-space of it), or for a blocked problem a list with one entry per
             block: a finalized constraint or ``None`` (no constraint on that block,
             e.g. a scifem real unknown).  Each unknown must be a Function on its
-            constraint's ``function_space``.
+            constraint's ``function_space``; the forms' test functions (and the
+            trial functions of a Jacobian given explicitly) are on the space ``V``
+            the constraint was created on.
 
     A blocked problem is assembled block by block (dolfinx_mpc 0.9 assembles MPC
     blocks only as separate matrices, its "nest" layout) and copied into a
@@ -179,7 +182,7 @@ class MPCAssembly(Assembly):
     """
 
     def __init__(self, constraints: Any) -> None:
-        self._given = constraints
+        self._given = constraints  # one strategy object per solver: setup() binds it
 
     def trial_space(self, F: Any, u: Any) -> Any:
         """The test space of ``F`` (the unconstrained space ``V``): dolfinx_mpc assembles
