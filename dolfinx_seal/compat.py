@@ -133,6 +133,21 @@ def assemble_jacobian_block(A: PETSc.Mat, a: Sequence[Sequence[Any]], bcs: Seque
     A.assemble()
 
 
+def create_vector_block_from_maps(maps: Sequence[tuple[Any, int]]) -> PETSc.Vec:
+    """Monolithic (non-nested) ghosted PETSc vector for blocks laid out by ``maps``.
+
+    ``maps`` holds ``(index_map, block size)`` per block, e.g. the spaces of
+    dolfinx_mpc constraints, whose index maps ghost the masters.
+    """
+    if _HAS_BLOCK:
+        from dolfinx.cpp.fem.petsc import create_vector_block
+
+        return create_vector_block(list(maps))
+    from dolfinx.la.petsc import create_vector  # pragma: no cover - 0.10
+
+    return create_vector(list(maps))  # pragma: no cover
+
+
 def block_maps(spaces: Sequence[Any]) -> list[tuple[Any, int]]:
     """(index_map, block size) of each space, the layout of a block vector."""
     return [(V.dofmap.index_map, V.dofmap.index_map_bs) for V in spaces]

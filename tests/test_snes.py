@@ -195,3 +195,57 @@ def test_same_solution_on_one_and_all_ranks():
     assert np.allclose(uw.x.array[:n], vs, atol=1e-11)
     sw.destroy()
     ss.destroy()
+
+
+def test_mpc_assembly_without_constraints_is_the_plain_assembly():
+    """The dolfinx_mpc strategy with empty constraints assembles exactly the plain
+    Jacobian and residual, single field and blocked (field + real unknown)."""
+    import dolfinx_mpc
+
+    from dolfinx_seal.errors import ParameterError
+    from dolfinx_seal.solvers import MPCAssembly
+
+    comm = MPI.COMM_WORLD
+    mesh = dolfinx.mesh.create_unit_square(comm, 6, 6)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2))
+    R = scifem.create_real_functionspace(mesh)
+    x = ufl.SpatialCoordinate(mesh)
+    dofs = dolfinx.fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0))
+    bc = dolfinx.fem.dirichletbc(0.25, dofs, V)
+
+    def build(assembly, blocked):
+        mpc = dolfinx_mpc.MultiPointConstraint(V)
+        mpc.finalize()
+        u = dolfinx.fem.Function(mpc.function_space if assembly else V)
+        u.interpolate(lambda x: x[0] * x[1])
+        v = ufl.TestFunction(V)
+        F = (1 + u**2) * ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx - x[1] * v * ufl.dx
+        if not blocked:
+            asm = MPCAssembly(mpc) if assembly else None
+            return NonlinearSolver(F, u, [bc], assembly=asm)
+        lam, mu = dolfinx.fem.Function(R), ufl.TestFunction(R)
+        lam.x.array[:] = 0.5
+        asm = MPCAssembly([mpc, None]) if assembly else None
+        F = F + lam * v * ufl.dx
+        return NonlinearSolver([F, u * mu * ufl.dx], [u, lam], [bc], assembly=asm)
+
+    for blocked in (False, True):
+        s_plain, s_mpc = build(False, blocked), build(True, blocked)
+        for s in (s_plain, s_mpc):
+            s._from_functions(s.x)
+            s._jacobian(s.snes, s.x, s.A, s.A)
+            s._residual(s.snes, s.x, s.b)
+        D = s_mpc.A.copy()
+        D.axpy(-1.0, s_plain.A, structure=PETSc.Mat.Structure.DIFFERENT)
+        assert D.norm() <= 1e-14 * s_plain.A.norm()
+        assert (s_mpc.b - s_plain.b).norm() <= 1e-14 * s_plain.b.norm()
+        assert np.array_equal(s_mpc.x.array, s_plain.x.array)
+        D.destroy()
+        s_plain.destroy()
+        s_mpc.destroy()
+    mpc = dolfinx_mpc.MultiPointConstraint(V)
+    mpc.finalize()
+    u, lam = dolfinx.fem.Function(mpc.function_space), dolfinx.fem.Function(R)
+    v, mu = ufl.TestFunction(V), ufl.TestFunction(R)
+    with pytest.raises(ParameterError, match="one constraint"):
+        NonlinearSolver([u * v * ufl.dx, lam * mu * ufl.dx], [u, lam], assembly=MPCAssembly(mpc))

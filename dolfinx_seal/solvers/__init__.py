@@ -1,5 +1,19 @@
-"""Nonlinear solvers: one PETSc SNES wrapper, and continuation drivers."""
+"""Nonlinear solvers: one PETSc SNES wrapper, its assembly strategies, continuation drivers."""
 
+from dolfinx_seal.solvers.assembly import (
+    Assembly,
+    MPCAssembly,
+    PlainAssembly,
+    add_rotational_periodic_constraint,
+)
 from dolfinx_seal.solvers.snes import NonlinearSolver, SNESOptions, bounds_function
 
-__all__ = ["NonlinearSolver", "SNESOptions", "bounds_function"]
+__all__ = [
+    "Assembly",
+    "MPCAssembly",
+    "NonlinearSolver",
+    "PlainAssembly",
+    "SNESOptions",
+    "add_rotational_periodic_constraint",
+    "bounds_function",
+]

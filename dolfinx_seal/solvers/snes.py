@@ -15,6 +15,10 @@
   raises :class:`~dolfinx_seal.errors.SolverError` carrying the iteration history;
 * its own complementarity check after a VI solve, since a VI solver may report
   convergence on a zero step;
+* an assembly strategy (:mod:`dolfinx_seal.solvers.assembly`): plain DOLFINx
+  assembly by default, or dolfinx_mpc assembly with multi-point constraints
+  (periodicity, also with rotation of a vector field); the constraints' slave
+  dofs are never bounded and their Newton update is zeroed;
 * a penalty warm start for VIs (:meth:`NonlinearSolver.solve_penalty`): the
   bounds are first enforced by a dof-wise penalty ``kappa_i min(x_i - l_i, 0)``
   with ``kappa_i`` a multiple of the Jacobian diagonal, stepped up by decades
@@ -35,7 +39,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import dolfinx
-import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from petsc4py import PETSc
@@ -44,6 +47,7 @@ from dolfinx_seal import compat
 from dolfinx_seal.errors import ParameterError, SolveHistory, SolverError
 from dolfinx_seal.mpi import print0
 from dolfinx_seal.params import check_choice, check_int_range, check_positive
+from dolfinx_seal.solvers.assembly import Assembly, PlainAssembly
 
 _counter = itertools.count()
 
@@ -141,6 +145,11 @@ class NonlinearSolver:
         name: Name used in messages and errors.
         step_limiter: Optional ``f(x, dx) -> s`` with ``0 < s <= 1`` on owned arrays:
             the Newton step is scaled by the global minimum of ``s`` (pre-check).
+        assembly: Assembly strategy (:class:`~dolfinx_seal.solvers.assembly.Assembly`);
+            default :class:`~dolfinx_seal.solvers.assembly.PlainAssembly` (DOLFINx).
+            With :class:`~dolfinx_seal.solvers.assembly.MPCAssembly` the unknowns
+            live on the constraints' spaces and bounds apply to the masters and
+            free dofs (slaves are unbounded: they follow their masters).
         petsc_options: Extra PETSc options (without prefix) for this instance.
         form_compiler_options, jit_options: Passed to :func:`dolfinx.fem.form`.
     """
@@ -160,6 +169,7 @@ class NonlinearSolver:
         petsc_options: dict[str, Any] | None = None,
         form_compiler_options: dict | None = None,
         jit_options: dict | None = None,
+        assembly: Assembly | None = None,
     ) -> None:
         self.blocked = isinstance(F, list | tuple)
         self.name = name
@@ -171,6 +181,7 @@ class NonlinearSolver:
         self.total_newton_iterations = 0
         self._penalty = 0.0
         fopts = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
+        asm = assembly if assembly is not None else PlainAssembly()
 
         if self.blocked:
             if not isinstance(u, list | tuple) or len(u) != len(F):
@@ -178,7 +189,10 @@ class NonlinearSolver:
             self.u = list(u)
             if J is None:
                 J = [
-                    [ufl.derivative(Fi, uj, ufl.TrialFunction(uj.function_space)) for uj in self.u]
+                    [
+                        ufl.derivative(Fi, uj, ufl.TrialFunction(asm.trial_space(Fj, uj)))
+                        for Fj, uj in zip(F, self.u, strict=True)
+                    ]
                     for Fi in F
                 ]
                 J = [[None if _is_zero(a) else a for a in row] for row in J]
@@ -186,20 +200,20 @@ class NonlinearSolver:
             self._a = [
                 [None if a is None else dolfinx.fem.form(a, **fopts) for a in row] for row in J
             ]
-            self.b = compat.create_vector_block(self._L)
-            self.A = compat.create_matrix_block(self._a)
-            self.x = self.b.duplicate()
-            self.comm = self.u[0].function_space.mesh.comm
         else:
             self.u = u
             if J is None:
-                J = ufl.derivative(F, u, ufl.TrialFunction(u.function_space))
+                J = ufl.derivative(F, u, ufl.TrialFunction(asm.trial_space(F, u)))
             self._L = dolfinx.fem.form(F, **fopts)
             self._a = dolfinx.fem.form(J, **fopts)
-            self.b = fem_petsc.create_vector(self._L)
-            self.A = fem_petsc.create_matrix(self._a)
-            self.x = self.b.duplicate()
-            self.comm = u.function_space.mesh.comm
+        self.assembly = asm
+        self.assembly.setup(self._L, self._a, self.u, self.bcs)
+        self.comm = self.assembly.comm
+        self.b = self.assembly.create_vector()
+        self.A = self.assembly.create_matrix()
+        self.x = self.b.duplicate()
+        self._constrained = self.assembly.constrained_dofs()
+        self._homogenize = self.comm.allreduce(int(self._constrained.size)) > 0
 
         self.has_bounds = lower is not None or upper is not None
         self.xl = self.xu = None
@@ -242,6 +256,10 @@ class NonlinearSolver:
                 vals[np.isnan(vals)] = fill
                 arr[:] = vals
             del arr
+        if self._constrained.size:  # slaves follow their masters: never bounded
+            arr = v.getArray(readonly=False)
+            arr[self._constrained] = fill
+            del arr
         return v
 
     def _make_snes(self, o: SNESOptions, prefix: str, bounded: bool) -> PETSc.SNES:
@@ -269,7 +287,7 @@ class NonlinearSolver:
         if bounded:
             snes.setVariableBounds(self.xl, self.xu)
         snes.setMonitor(self._monitor)
-        if self.step_limiter is not None:
+        if self.step_limiter is not None or self._homogenize:
             snes.setLineSearchPreCheck(self._precheck)
         snes.setFromOptions()
         snes.getKSP().setFromOptions()
@@ -281,41 +299,21 @@ class NonlinearSolver:
 
     # ------------------------------------------------------------- callbacks
     def _to_functions(self, x: PETSc.Vec) -> None:
-        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        if self.blocked:
-            compat.block_to_functions(x, self.u)
-        else:
-            x.copy(self.u.x.petsc_vec)
-            self.u.x.scatter_forward()
+        """``x`` into the unknowns (with an MPC: slaves recomputed from the masters)."""
+        self.assembly.to_functions(x)
 
     def _from_functions(self, x: PETSc.Vec) -> None:
-        if self.blocked:
-            compat.functions_to_block(self.u, x)
-        else:
-            self.u.x.petsc_vec.copy(x)
+        self.assembly.from_functions(x)
 
     def _residual(self, snes: PETSc.SNES, x: PETSc.Vec, b: PETSc.Vec) -> None:
         self._to_functions(x)
-        if self.blocked:
-            compat.assemble_residual_block(b, self._L, self._a, self.bcs, x)
-        else:
-            with b.localForm() as bl:
-                bl.set(0.0)
-            fem_petsc.assemble_vector(b, self._L)
-            fem_petsc.apply_lifting(b, [self._a], bcs=[self.bcs], x0=[x], alpha=-1.0)
-            b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-            fem_petsc.set_bc(b, self.bcs, x, -1.0)
+        self.assembly.residual(x, b)
         if self._penalty > 0.0:
             self._add_penalty_residual(x, b)
 
     def _jacobian(self, snes: PETSc.SNES, x: PETSc.Vec, A: PETSc.Mat, P: PETSc.Mat) -> None:
         self._to_functions(x)
-        if self.blocked:
-            compat.assemble_jacobian_block(A, self._a, self.bcs)
-        else:
-            A.zeroEntries()
-            fem_petsc.assemble_matrix(A, self._a, bcs=self.bcs)
-            A.assemble()
+        self.assembly.jacobian(A)
         if self._penalty > 0.0:
             self._add_penalty_jacobian(x, A)
 
@@ -361,11 +359,20 @@ class NonlinearSolver:
             return R.DIVERGED_DTOL
         return R.ITERATING
 
-    def _precheck(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
-        s = float(self.step_limiter(x.getArray(readonly=True), y.getArray(readonly=True)))
-        s = self.comm.allreduce(min(max(s, 1e-12), 1.0), op=_mpi_min())
-        if s < 1.0:
-            y.scale(s)
+    def _precheck(self, x: PETSc.Vec, y: PETSc.Vec) -> bool:
+        changed = False
+        if self._homogenize and self._constrained.size:
+            arr = y.getArray(readonly=False)
+            changed = bool(np.any(arr[self._constrained] != 0.0))
+            self.assembly.homogenize(arr)  # the slaves follow the masters, not the step
+            del arr
+        if self.step_limiter is not None:
+            s = float(self.step_limiter(x.getArray(readonly=True), y.getArray(readonly=True)))
+            s = self.comm.allreduce(min(max(s, 1e-12), 1.0), op=_mpi_min())
+            if s < 1.0:
+                y.scale(s)
+                changed = True
+        return changed
 
     # ---------------------------------------------------------------- penalty
     def _active_violation(self, x: PETSc.Vec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -548,17 +555,7 @@ class NonlinearSolver:
             vs = sum(v[i] for i in range(v.ufl_shape[0])) if v.ufl_shape else v
             forms.append(dolfinx.fem.form(vs * ufl.dx(domain=V.mesh)))
         vec = self.b.duplicate()
-        if self.blocked:
-            funcs = []
-            for f, ui in zip(forms, us, strict=True):
-                m = dolfinx.fem.Function(ui.function_space)
-                dolfinx.fem.petsc.assemble_vector(m.x.petsc_vec, f)
-                m.x.petsc_vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-                funcs.append(m)
-            compat.functions_to_block(funcs, vec)
-        else:
-            fem_petsc.assemble_vector(vec, forms[0])
-            vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        self.assembly.assemble_linear(forms if self.blocked else forms[0], vec)
         out = np.abs(vec.getArray(readonly=True)).copy()
         vec.destroy()
         return out
@@ -629,6 +626,7 @@ class NonlinearSolver:
         ):
             if obj is not None:
                 obj.destroy()
+        self.assembly.destroy()
 
 
 # ------------------------------------------------------------------ helpers
