@@ -26,16 +26,20 @@ class _Clock:
 
 def _reporter(total: int, **kw) -> tuple[Progress, io.StringIO, _Clock]:
     stream = io.StringIO()
-    p = Progress(total, "film.speed", "m/s", stream=stream, tty=False, **kw)
+    p = Progress(total, "film.speed", "m/s", stream=stream, tty=False, comm=_Rank(0), **kw)
     clock = _Clock()
     p._clock = clock
     p._t_last = 0.0
     return p, stream, clock
 
 
-class _Rank1:
-    rank = 1
+class _Rank:
+    """A communicator stub: these unit tests act as the given rank on any run."""
+
     size = 2
+
+    def __init__(self, rank: int) -> None:
+        self.rank = rank
 
 
 def test_plain_lines_count_newton_steps_and_time_left():
@@ -81,7 +85,7 @@ def test_sub_steps_are_throttled_unless_verbose():
 
 def test_other_ranks_print_nothing():
     stream = io.StringIO()
-    p = Progress(2, "x", stream=stream, tty=False, comm=_Rank1())
+    p = Progress(2, "x", stream=stream, tty=False, comm=_Rank(1))
     p.point(1.0, {"newton_iterations": 3})
     p.step("load step", 0.5)
     p.failed(2.0, "diverged")
@@ -93,7 +97,7 @@ def test_other_ranks_print_nothing():
 def test_bar_on_a_terminal():
     """``tty``: a tqdm bar redrawn in place (carriage returns), with the time left."""
     stream = io.StringIO()
-    with Progress(3, "velocity", "m/s", stream=stream, tty=True) as p:
+    with Progress(3, "velocity", "m/s", stream=stream, tty=True, comm=_Rank(0)) as p:
         assert p._bar is not None
         p.point(1e-3, {"newton_iterations": 4})
         p.step("load step 2", 0.5)
