@@ -148,14 +148,15 @@ def _cube_fields(path):
             xdmf.write_function(g)
 
 
-@pytest.mark.skip_in_parallel
-def test_png_of_3d_fields(tmp_path):
-    """Off screen: the PNG is drawn, has the requested size and is not blank."""
+def test_png_of_3d_fields(mpi_tmp_path):
+    """Off screen, from rank 0 of the run (a child process under ``xvfb-run``): the PNG
+    is drawn, has the requested size and is not blank."""
     if png_renderer()[0] is None:
         pytest.skip(f"no off-screen renderer here: {png_renderer()[1]}")
-    _cube_fields(tmp_path / "fields.xdmf")
-    png = tmp_path / "fields.png"
-    assert render_fields_png(tmp_path / "fields.xdmf", png)
+    _cube_fields(mpi_tmp_path / "fields.xdmf")  # collective
+    png = mpi_tmp_path / "fields.png"
+    drawn = render_fields_png(mpi_tmp_path / "fields.xdmf", png) if COMM_WORLD.rank == 0 else None
+    assert COMM_WORLD.bcast(drawn, root=0)
     import matplotlib.image
 
     img = matplotlib.image.imread(png)
