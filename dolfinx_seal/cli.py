@@ -86,7 +86,8 @@ def _cmd_params(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}"
-    res = _scenes.run_scene(args.scene, p, out, force=args.force)
+    with Progress(1, what=args.scene, verbose=args.verbose, leave=False):  # sub-steps only
+        res = _scenes.run_scene(args.scene, p, out, force=args.force)
     print0(f"{args.scene} results:")
     print0(results_table(res, "results.json"))
     print0(f"results written to {out}/results.json")

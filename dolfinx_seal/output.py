@@ -708,6 +708,8 @@ class Progress:
         tty: Force bar (True) or plain lines (False); default ``stream.isatty()``.
         min_interval: Least time between two plain sub-step lines [s].
         comm: Communicator; only its rank 0 prints.
+        leave: Keep the bar on the terminal when it closes (False: a single run's
+            bar of sub-steps disappears).
     """
 
     def __init__(
@@ -722,6 +724,7 @@ class Progress:
         tty: bool | None = None,
         min_interval: float = 10.0,
         comm: Any = None,
+        leave: bool = True,
     ) -> None:
         import sys
         import time
@@ -747,7 +750,7 @@ class Progress:
             except ImportError:  # tqdm is a Debian package of the environment
                 self.tty = False
             else:
-                self._bar = tqdm(total=self.total, file=self.stream, dynamic_ncols=True, leave=True,
+                self._bar = tqdm(total=self.total, file=self.stream, dynamic_ncols=True, leave=leave,
                                  bar_format="{desc} {n_fmt}/{total_fmt} |{bar}| {postfix}",
                                  desc=over or what)  # fmt: skip
 

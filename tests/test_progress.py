@@ -128,3 +128,21 @@ def test_cli_sweep_on_two_ranks_reports_from_rank_0_only(tmp_path):
     out = r.stdout.splitlines()
     assert len(out) == n + 1  # the default output stays short: a line per point and a summary
     assert out[-1].startswith(f"{n} of {n} points finished")
+
+
+@pytest.mark.skip_in_parallel
+def test_run_has_a_reporter_for_sub_steps(tmp_path, monkeypatch, capsys):
+    """``dolfinx-seal run``: sub-steps reported deep in a scene reach stderr (plain
+    line, not a terminal); the results table stays on stdout."""
+    from dolfinx_seal import cli
+
+    def fake_run(name, params, out, force=False):
+        progress_step("load step 1", 0.5)
+        return {"scene": name, "mu": 0.25, "converged": True}
+
+    monkeypatch.setattr(cli._scenes, "run_scene", fake_run)
+    assert cli.main(["run", "flat", "--out", str(tmp_path / "r")]) == 0
+    captured = capsys.readouterr()
+    assert "  [1/1] load step 1 0.5" in captured.err.splitlines()
+    assert "mu" in captured.out and "load step" not in captured.out
+    assert active_progress() is None
