@@ -1020,9 +1020,11 @@ def _draw_fields(xdmf: str | Path, png: str | Path) -> None:
     pv.global_theme.font.color = "black"
     plot = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800), border=False)
     plot.set_background("white")
-    bar = {"vertical": True, "position_x": 0.85, "position_y": 0.1, "height": 0.7}
+    bar = {"vertical": True, "position_x": 0.8, "position_y": 0.1, "height": 0.7,
+           "title_font_size": 16, "label_font_size": 14}  # fmt: skip
     if "von Mises stress [MPa]" in surf.cell_data:
-        plot.add_mesh(surf, scalars="von Mises stress [MPa]", cmap="viridis", scalar_bar_args=bar)
+        plot.add_mesh(surf, scalars="von Mises stress [MPa]", cmap="viridis",
+                      scalar_bar_args={**bar, "title": "von Mises [MPa]"})  # fmt: skip
     else:
         plot.add_mesh(surf, color="lightgrey")
     plot.add_text("deformed body: von Mises stress (seen from -y)", font_size=11)
@@ -1040,7 +1042,8 @@ def _draw_fields(xdmf: str | Path, png: str | Path) -> None:
         )
         if near.size:
             face = surf.extract_cells(near)
-    plot.add_mesh(face, scalars="pressure [MPa]", cmap="magma", scalar_bar_args=bar)
+    plot.add_mesh(face, scalars="pressure [MPa]", cmap="magma",
+                  scalar_bar_args={**bar, "title": "pressure [MPa]"})  # fmt: skip
     plot.add_text("contact face: contact + fluid pressure (seen from -z)", font_size=11)
     plot.view_vector((0.0, 0.0, -1.0), viewup=(1.0, 0.0, 0.0))
     plot.reset_camera()
