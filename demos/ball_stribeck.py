@@ -1,24 +1,37 @@
-"""The main demo: a short Stribeck sweep of the lubricated rubber ball (S1 section 3).
+# %% [markdown]
+# # A Stribeck sweep of the lubricated rubber ball (S1 section 3)
+#
+# The S1 figure-18 system: a rubber ball ($R$ = 1 cm, $F$ = 1.3 N,
+# $E^*$ = 1.6 MPa) on a rigid flat in oil ($\eta$ = 0.1 Pa s), with a rough
+# surface ($h_\mathrm{rms}$ = 1 um, fractal dimension 2.2).  A half ball (symmetry
+# plane $y = 0$), neo-Hookean; on the deformed contact cap a 2D Reynolds film
+#
+# $$ \nabla \cdot \Big( \frac{g^3}{12 \eta} \nabla p \Big) = \frac{U}{2} \frac{\partial g}{\partial x}, \qquad p \ge 0 \ \text{(Reynolds cavitation condition)}, $$
+#
+# shares one Newton system with the rubber, whose surface carries the fluid
+# pressure $p$ and the Persson asperity pressure $p_\mathrm{cont}(g)$; the
+# ball's height is the unknown that balances the load,
+# $\int (p + p_\mathrm{cont})\, dA = F$.  The friction coefficient
+#
+# $$ \mu = \frac{1}{F} \int \Big( \sigma_1 \frac{A}{A_0} + \frac{\eta U}{g} + \frac{g}{2} \frac{\partial p}{\partial x} \Big) dA $$
+#
+# splits into its asperity, Couette and Poiseuille parts (S1 eq 29).  The sweep
+# starts in full film (hydrodynamic start from the Hamrock-Dowson film) and
+# walks down in speed with continuation.
+#
+# Writes into `--out`:
+#
+# * `sweep.csv` -- one row per converged speed (mu and its parts, load split,
+#   h_min, h_central, cavitated area, load and mass balance, Newton steps, times);
+# * `sweep.png` -- mu against eta v with the load split and the film thickness;
+# * `speed_<U>/film_map.png` (and `.csv`) -- fluid pressure, asperity
+#   pressure, gap and cavitation at each speed;
+# * `hamrock_dowson.csv` -- h_central and h_min against the Hamrock-Dowson
+#   isoviscous-elastic regressions at the full-film speeds.
+#
+# Run: `scripts/dx python3 demos/ball_stribeck.py [--out results/demo] [--speeds ...]`
 
-The S1 figure-18 system (R = 1 cm, F = 1.3 N, E* = 1.6 MPa, eta = 0.1 Pa s,
-h_rms = 1 um, D_f = 2.2): half ball, 2D Reynolds film with the Reynolds
-cavitation condition on the contact cap, Persson asperity contact, force
-control.  The sweep starts in full film (hydrodynamic start from the
-Hamrock-Dowson film) and walks down in speed with continuation.
-
-Writes into ``--out``:
-
-* ``sweep.csv`` -- one row per converged speed (mu and its parts, load split,
-  h_min, h_central, cavitated area, load and mass balance, Newton steps, times);
-* ``sweep.png`` -- mu against eta v with the load split and the film thickness;
-* ``speed_<U>/film_map.png`` (and ``.csv``) -- fluid pressure, asperity
-  pressure, gap and cavitation at each speed;
-* ``hamrock_dowson.csv`` -- h_central and h_min against the Hamrock-Dowson
-  isoviscous-elastic regressions at the full-film speeds.
-
-Run:  scripts/dx python3 demos/ball_stribeck.py [--out results/demo] [--speeds ...]
-"""
-
+# %%
 from __future__ import annotations
 
 import argparse
@@ -31,12 +44,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
-from dolfinx_seal.output import SweepWriter
+from dolfinx_seal.output import Progress, SweepWriter
 from dolfinx_seal.scenes import make_parameters, sweep_scene
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
 SPEEDS = [0.3, 0.1, 0.03]  # [m/s], walked downwards (full film to the onset of asperity contact)
 ELEMENTS_PER_RADIUS = 15.0  # contact element size a_Hertz / 15
+DESCRIPTION = "A Stribeck sweep of the lubricated rubber ball (S1 section 3)"
+
+# %% [markdown]
+# ## The parameters
+# The defaults of scene `ball` are the S1 system; the mesh is set by the
+# Hertz contact radius $a = (3 F R / 4 E^*)^{1/3}$: contact elements of
+# $a$ / `elements_per_radius`.
+
+
+# %%
 
 
 def parameters(elements_per_radius: float = ELEMENTS_PER_RADIUS, **values: Any) -> Any:
@@ -46,6 +69,14 @@ def parameters(elements_per_radius: float = ELEMENTS_PER_RADIUS, **values: Any) 
     return make_parameters("ball", values={**values, "h_contact": a_h / elements_per_radius})
 
 
+# %% [markdown]
+# ## The Hamrock-Dowson check
+# In full film (fluid load fraction > 99 %) the central and minimum film
+# thickness follow the isoviscous-elastic regressions of Hamrock and Dowson,
+# with the mean surface speed $u_m = U/2$ (`dolfinx_seal.verification.ehl`).
+
+
+# %%
 def hamrock_dowson_rows(p: Any, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """h_central and h_min of the full-film points (fluid load > 99 %) against the
     Hamrock-Dowson regressions (u_m = U / 2)."""
@@ -57,6 +88,13 @@ def hamrock_dowson_rows(p: Any, rows: list[dict[str, Any]]) -> list[dict[str, An
     ]
 
 
+# %% [markdown]
+# ## The sweep
+# `sweep_scene` walks the speeds with continuation (secant predictor, step
+# halved on failure); the progress of each point is shown on rank 0.
+
+
+# %%
 def run(
     out: Path,
     speeds: list[float] | None = None,
@@ -65,15 +103,23 @@ def run(
 ) -> list[dict[str, Any]]:
     """Run the sweep; returns the converged rows (also in ``out/sweep.csv``)."""
     p = parameters(elements_per_radius, **values)
-    rows = sweep_scene("ball", p, out, "film.speed", list(speeds or SPEEDS))
+    speeds = list(speeds or SPEEDS)
+    with Progress(len(speeds), "film.speed", "m/s") as progress:
+        rows = sweep_scene("ball", p, out, "film.speed", speeds, progress=progress)
     writer = SweepWriter(out, "hamrock_dowson.csv")
     for r in hamrock_dowson_rows(p, rows):
         writer.append(r)
     return rows
 
 
+# %% [markdown]
+# ## From the command line
+# The table: speed, mu, fluid load fraction, central and minimum film thickness.
+
+
+# %%
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--out", default="results/demo")
     parser.add_argument("--speeds", type=float, nargs="+", default=SPEEDS, help="[m/s]")
     parser.add_argument("--elements-per-radius", type=float, default=ELEMENTS_PER_RADIUS)

@@ -1,21 +1,32 @@
-"""Stribeck curves of the soft lubricated cylinder (S1 figures 8-10, 12, 14-15).
+# %% [markdown]
+# # Stribeck curves of the soft lubricated cylinder (S1 figures 8-10, 12, 14-15)
+#
+# A rubber cylinder ($R$ = 1 cm, 100 N/m, plane strain) slides on a rigid flat
+# in oil.  The 1D Reynolds film on the deformed contact line,
+#
+# $$ \frac{d}{dx}\Big( \frac{g^3}{12 \eta} \frac{dp}{dx} \Big) = \frac{U}{2} \frac{dg}{dx}, $$
+#
+# and the Persson asperity pressure $p_\mathrm{cont}(g)$ share one Newton
+# system with the rubber; the friction coefficient $\mu(\eta v)$ goes from
+# boundary lubrication (asperities carry the load, $\mu \approx \sigma_1 A / F$)
+# through a minimum to the hydrodynamic branch ($\mu$ grows with the film's
+# viscous shear).  `dolfinx-seal sweep cylinder` is run over speed for
+#
+# * h_rms = 1, 3, 6 um at E = 10 MPa (S1 figures 8-10: the minimum moves with h_rms);
+# * h_rms = 1 um with the Persson/Bruggeman pressure flow factor (not in S1, which
+#   has none);
+# * E = 10 MPa, 100 MPa, 1 GPa with the Reynolds condition and without
+#   cavitation (full Sommerfeld) (S1 figures 12, 14-15), with S1's asperity
+#   shear stress sigma_1 = 1, 10, 100 MPa (E / 10);
+#
+# and writes `stribeck.png` (all curves), `minima.csv` (speed and mu at
+# each curve's minimum) and one folder per curve (`sweep.csv`, `sweep.png`).
+# The element size at the contact is the Hertz half-width $a$ over
+# `elements_per_half_width`.
+#
+# Run: `scripts/dx python3 demos/cylinder_stribeck.py [--out results/stribeck] [--quick]`
 
-Sweeps ``dolfinx-seal sweep cylinder`` over speed for
-
-* h_rms = 1, 3, 6 um at E = 10 MPa (S1 figures 8-10: the minimum moves with h_rms);
-* h_rms = 1 um with the Persson/Bruggeman pressure flow factor (not in S1, which
-  has none);
-* E = 10 MPa, 100 MPa, 1 GPa with the Reynolds condition and without
-  cavitation (full Sommerfeld) (S1 figures 12, 14-15), with S1's asperity
-  shear stress sigma_1 = 1, 10, 100 MPa (E / 10);
-
-and writes ``stribeck.png`` (all curves), ``minima.csv`` (speed and mu at
-each curve's minimum) and one folder per curve (``sweep.csv``, ``sweep.png``).
-The element size at the contact is ``a_Hertz / elements_per_half_width``.
-
-Run:  scripts/dx python3 demos/cylinder_stribeck.py [--out results/stribeck] [--quick]
-"""
-
+# %%
 from __future__ import annotations
 
 import argparse
@@ -29,8 +40,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
+from dolfinx_seal.output import Progress
 from dolfinx_seal.scenes import make_parameters, sweep_scene
 
+DESCRIPTION = "Stribeck curves of the soft lubricated cylinder (S1 figures 8-10, 12, 14-15)"
+
+# %% [markdown]
+# ## The curves
+# Each curve is a set of parameter values over the scene's defaults.
+
+# %%
 CURVES = {
     "h1um": {"roughness": {"h_rms": 1e-6}},
     "h3um": {"roughness": {"h_rms": 3e-6}},
@@ -52,6 +71,13 @@ CURVES = {
 }
 
 
+# %% [markdown]
+# ## The mesh of a curve
+# The Hertz half-width of the line contact, $a = \sqrt{4 F' R / (\pi E^*)}$,
+# sets the contact element size.
+
+
+# %%
 def curve_parameters(values: dict[str, Any], elements_per_half_width: float) -> Any:
     """Scene parameters of one curve, with the contact element size set from a_Hertz."""
     p = make_parameters("cylinder", values={**values, "h_contact": 1e-9})  # for a_Hertz only
@@ -61,6 +87,13 @@ def curve_parameters(values: dict[str, Any], elements_per_half_width: float) -> 
     )
 
 
+# %% [markdown]
+# ## The sweeps and their minima
+# One continuation sweep per curve; the minimum of $\mu$ with its speed, the
+# fluid share of the load there, and the worst load and mass balance.
+
+
+# %%
 def run(
     out: Path, curves: list[str], speeds: list[float], elements_per_half_width: float = 30.0
 ) -> list[dict[str, Any]]:
@@ -69,7 +102,8 @@ def run(
     all_rows = {}
     for name in curves:
         p = curve_parameters(CURVES[name], elements_per_half_width)
-        rows = sweep_scene("cylinder", p, out / name, "film.speed", speeds)
+        with Progress(len(speeds), "film.speed", "m/s") as progress:
+            rows = sweep_scene("cylinder", p, out / name, "film.speed", speeds, progress=progress)
         all_rows[name] = rows
         if not rows:
             continue
@@ -95,6 +129,13 @@ def run(
     return summary
 
 
+# %% [markdown]
+# ## The figure
+# mu and the fluid load fraction against $\eta v$ for every curve (dashed:
+# without cavitation).
+
+
+# %%
 def _plot(out: Path, all_rows: dict[str, list[dict[str, Any]]]) -> None:
     import matplotlib
 
@@ -121,8 +162,15 @@ def _plot(out: Path, all_rows: dict[str, list[dict[str, Any]]]) -> None:
     plt.close(fig)
 
 
+# %% [markdown]
+# ## From the command line
+# `--quick`: 3 speeds, 2 curves, coarse; `--plot-only` redraws the figure from
+# the `sweep.csv` files already in `--out`.
+
+
+# %%
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--out", default="results/stribeck")
     parser.add_argument("--curves", nargs="+", default=list(CURVES), choices=list(CURVES))
     parser.add_argument("--speeds", default="1e-6:10:15:log")

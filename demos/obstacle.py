@@ -1,14 +1,21 @@
-"""Demo: the 2D obstacle problem as a variational inequality (exact solution known).
+# %% [markdown]
+# # Demo: the 2D obstacle problem as a variational inequality (exact solution known)
+#
+# Find $u \ge \psi$ on $\Omega = [-2, 2]^2$ with $u = g$ on the boundary such that
+#
+# $$ u \ge \psi, \qquad -\Delta u \ge 0, \qquad (u - \psi)\, \Delta u = 0 \quad \text{in } \Omega, $$
+#
+# the obstacle being the hemisphere $\psi(r) = \sqrt{1 - r^2}$ for $r \le 1$
+# and $-1$ beyond.  The exact solution is radial: the hemisphere on the contact
+# disc $r \le r^*$ and the harmonic, $C^1$-matched branch
+# $-(r^*)^2 \ln(r/2) / \sqrt{1 - (r^*)^2}$ outside, with $r^* = 0.697965\ldots$
+# (`dolfinx_seal.verification.obstacle`).  The weak form is a bound-constrained
+# Newton (`vinewtonrsls` of `dolfinx_seal.solvers.NonlinearSolver`, lower bound
+# the nodal obstacle), solved cold or on nested meshes.
+#
+# Run: `scripts/dx python3 demos/obstacle.py --cells 64`
 
-    u >= psi,   -lap u >= 0,   (u - psi) lap u = 0   on [-2, 2]^2,  u = g on the boundary
-
-solved with :class:`dolfinx_seal.solvers.NonlinearSolver` (``vinewtonrsls``,
-lower bound = nodal obstacle), cold or with nested meshes, and compared with
-the exact radial solution of :mod:`dolfinx_seal.verification.obstacle`.
-
-Run:  scripts/dx python3 demos/obstacle.py --cells 64
-"""
-
+# %%
 from __future__ import annotations
 
 import argparse
@@ -24,6 +31,17 @@ from dolfinx_seal.mpi import print0
 from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
 from dolfinx_seal.solvers.continuation import nested_solve
 from dolfinx_seal.verification import obstacle as ref
+
+DESCRIPTION = "The 2D obstacle problem as a variational inequality (exact solution known)"
+
+# %% [markdown]
+# ## The discrete problem
+# P1 elements; the residual $\int \nabla u \cdot \nabla v\, dx$, the exact
+# solution as Dirichlet data, the obstacle interpolated at the nodes as the
+# lower bound of the VI.
+
+
+# %%
 
 
 def build(
@@ -48,6 +66,13 @@ def build(
     return solver, u
 
 
+# %% [markdown]
+# ## Errors against the exact solution
+# The largest nodal error, the $L^2$ error, and the contact radius read off
+# the active set (nodes where $u = \psi$) against $r^*$.
+
+
+# %%
 def errors(u: dolfinx.fem.Function) -> dict[str, float]:
     """Max nodal error and L2 error against the exact solution; contact radius from the active set."""
     comm = u.function_space.mesh.comm
@@ -70,6 +95,13 @@ def errors(u: dolfinx.fem.Function) -> dict[str, float]:
     return {"max_error": max_err, "l2_error": float(l2), "contact_radius": r_contact}
 
 
+# %% [markdown]
+# ## Cold and nested solves
+# Cold: one VI solve from $u = 0$.  Nested: levels of `cells/8`, `/4`, `/2` and
+# `cells`, each started from the interpolated solution of the one below.
+
+
+# %%
 def run(
     cells: int = 64, strategy: str = "nested", comm: MPI.Comm = MPI.COMM_WORLD
 ) -> dict[str, Any]:
@@ -90,8 +122,14 @@ def run(
     return out
 
 
+# %% [markdown]
+# ## The table
+# One line per mesh and strategy: Newton steps on the finest level, time and errors.
+
+
+# %%
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--cells", type=int, nargs="+", default=[16, 32, 64, 128])
     args = parser.parse_args(argv)
     print0(f"exact contact radius r* = {ref.free_boundary_radius():.6f}")

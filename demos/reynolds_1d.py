@@ -1,21 +1,34 @@
-"""Demo: rigid cylinder on a plane, Reynolds film with the Reynolds cavitation condition.
+# %% [markdown]
+# # Demo: a rigid cylinder on a plane, Reynolds film with the Reynolds cavitation condition
+#
+# The 1D free-boundary problem of `dolfinx_seal.film.rigid_cylinder`: in the
+# dimensionless variables $X = x / \sqrt{2 R h_0}$ (gap $H = 1 + X^2$) and
+# $P = p\, h_0 \sqrt{2 R h_0} / (24 \eta R U_m)$ the film pressure solves
+#
+# $$ \frac{d}{dX}\Big( H^3 \frac{dP}{dX} \Big) = \frac{dH}{dX}, \qquad
+#    P(-X_\mathrm{in}) = P(X_\mathrm{out}) = 0, $$
+#
+# with the Reynolds (Swift-Stieber) condition downstream: $P \ge 0$ everywhere,
+# the equation holds where $P > 0$, and $P = dP/dX = 0$ at the free boundary
+# $X_c$ where the film cavitates.  It is a variational inequality (lower bound
+# $P \ge 0$), solved with three strategies and compared with the independent
+# Martin reference of `dolfinx_seal.verification.martin` (the cavitation point
+# $X_c$ and the load $W = \int P\, dX$):
+#
+# * `cold` -- `vinewtonrsls` from $P = 0$: the active set moves about one
+#   node per Newton step, so the step count grows with the mesh;
+# * `penalty` -- penalty continuation ($\kappa$ from 1 to $10^8$) then the exact VI;
+# * `nested` -- coarse-to-fine levels (doubling), each level started from the
+#   interpolated solution of the one below: 1-2 steps per level.
+#
+# Writes into `--out`: `solver_table.csv` (Newton steps and wall time per
+# size and strategy), `pressure.png` (FEM against the reference) and
+# `results.json`.
+#
+# Run: `scripts/dx python3 demos/reynolds_1d.py --out results/demo` (as a
+# script, or cell by cell in Jupyter through Jupytext's percent format).
 
-The 1D free-boundary problem of :mod:`dolfinx_seal.film.rigid_cylinder` (gap
-``H = 1 + X^2``, ``P >= 0`` as a variational inequality, inlet far upstream)
-solved with three strategies and compared with the independent Martin
-reference of :mod:`dolfinx_seal.verification.martin`:
-
-* ``cold``    -- ``vinewtonrsls`` from ``P = 0``: the active set moves about one
-  node per Newton step, so the step count grows with the mesh;
-* ``penalty`` -- penalty continuation (``kappa`` 1 -> 1e8) then the exact VI;
-* ``nested``  -- coarse-to-fine levels (doubling), each level started from the
-  interpolated solution of the one below: 1-2 steps per level.
-
-Writes into ``--out``: ``solver_table.csv`` (Newton steps and wall time per
-size and strategy), ``pressure.png`` (FEM against the reference) and
-``results.json``.  Run:  ``scripts/dx python3 demos/reynolds_1d.py --out results/demo``
-"""
-
+# %%
 from __future__ import annotations
 
 import argparse
@@ -35,6 +48,14 @@ from dolfinx_seal.solvers.continuation import nested_solve
 from dolfinx_seal.verification.martin import martin_solution
 
 STRATEGIES = ("cold", "penalty", "nested")
+DESCRIPTION = "Rigid cylinder on a plane: Reynolds film with the Reynolds cavitation condition"
+
+# %% [markdown]
+# ## The nested levels
+# The mesh sizes of the nested strategy halve down to about 500 cells.
+
+
+# %%
 
 
 def nested_sizes(cells: int, coarsest: int = 500) -> list[int]:
@@ -45,6 +66,13 @@ def nested_sizes(cells: int, coarsest: int = 500) -> list[int]:
     return sizes[::-1]
 
 
+# %% [markdown]
+# ## One solve
+# Each strategy builds the same `RigidCylinderFilm`; a strategy that does not
+# converge within `max_it` steps is a row with `converged = False`, not an error.
+
+
+# %%
 def solve(
     cells: int,
     strategy: str = "nested",
@@ -101,6 +129,13 @@ def solve(
     return row, prob
 
 
+# %% [markdown]
+# ## The pressure against the reference
+# Rank 0 gathers the nodal pressure and draws it with Martin's profile; the
+# dotted line is the reference cavitation point $X_c$.
+
+
+# %%
 def plot(prob: RigidCylinderFilm, x_in: float, path: Path) -> None:
     """Pressure profile against the reference (rank 0 draws; data gathered)."""
     comm = prob.mesh.comm
@@ -139,8 +174,16 @@ def plot(prob: RigidCylinderFilm, x_in: float, path: Path) -> None:
     plt.close(fig)
 
 
+# %% [markdown]
+# ## The solver table
+# Every size with every strategy (the cold start only up to `--cold-max-cells`,
+# it needs about 0.04 Newton steps per cell): the errors in $X_c$ and $W$ and
+# the film's mass balance.
+
+
+# %%
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000])
     parser.add_argument("--strategies", nargs="+", default=list(STRATEGIES), choices=STRATEGIES)
     parser.add_argument("--x-in", type=float, default=10.0, help="inlet distance upstream")

@@ -32,7 +32,7 @@ from pathlib import Path
 from dolfinx_seal import scenes as _scenes
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
-from dolfinx_seal.output import on_sweep_row, results_table, sweep_point_line, versions
+from dolfinx_seal.output import Progress, on_sweep_row, results_table, sweep_point_line, versions
 
 
 def _cmd_versions(args: argparse.Namespace) -> int:
@@ -86,7 +86,8 @@ def _cmd_params(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}"
-    res = _scenes.run_scene(args.scene, p, out, force=args.force)
+    with Progress(1, what=args.scene, verbose=args.verbose, leave=False):  # sub-steps only
+        res = _scenes.run_scene(args.scene, p, out, force=args.force)
     print0(f"{args.scene} results:")
     print0(results_table(res, "results.json"))
     print0(f"results written to {out}/results.json")
@@ -101,13 +102,16 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     values = _scenes.parse_values(args.values)
     unit = field_unit(p, args.over)
     done = [0]
+    progress = Progress(len(values), args.over, unit, verbose=args.verbose)
 
     def echo(row: dict) -> None:
         done[0] += 1
-        print0(f"[{done[0]}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
+        progress.write(f"[{done[0]}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
 
-    with on_sweep_row(Path(out) / "sweep.csv", echo):
-        rows = _scenes.sweep_scene(args.scene, p, out, args.over, values, force=args.force)
+    with progress, on_sweep_row(Path(out) / "sweep.csv", echo):
+        rows = _scenes.sweep_scene(
+            args.scene, p, out, args.over, values, force=args.force, progress=progress
+        )
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
     return 0 if len(rows) == len(values) else 1
 
@@ -118,9 +122,10 @@ def _cmd_study(args: argparse.Namespace) -> int:
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}-study"
     values = _scenes.parse_values(args.values)
-    rows = convergence_study(
-        args.scene, p, out, args.over, values, args.quantities.split(","), args.reference
-    )
+    with Progress(len(values), args.over, what="level", growth=True, verbose=args.verbose) as pr:
+        rows = convergence_study(
+            args.scene, p, out, args.over, values, args.quantities.split(","), args.reference, pr
+        )
     for r in rows:
         print0(
             ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in r.items())
@@ -132,7 +137,10 @@ def _cmd_study(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and documentation)."""
     parser = argparse.ArgumentParser(prog="dolfinx-seal", description=__doc__.splitlines()[0])
-    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    parser.add_argument(
+        "-v", "--verbose", action="store_true",
+        help="debug logging, and every sub-step of the progress",
+    )  # fmt: skip
     sub = parser.add_subparsers(dest="command", required=True)
 
     sp = sub.add_parser("versions", help="print the versions of the stack")

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import csv
 import importlib
+import importlib.util
 import io
 import json
 import math
@@ -666,3 +667,386 @@ def _fmt_values(vals: Any) -> str:
         items = [*items[:3], "...", *items[-2:]]
         return f"[{', '.join(items)}] ({len(vals)} values)"
     return f"[{', '.join(items)}]"
+
+
+# ------------------------------------------------------------ progress
+_ACTIVE: list[Progress] = []
+
+
+class Progress:
+    """Progress of long work on rank 0: points done / total, the current value,
+    Newton steps and time per point, an estimate of the time left.
+
+    On a terminal (``stream.isatty()``) a tqdm bar on ``stream`` (default
+    stderr) updated in place; otherwise one plain line per finished point::
+
+        [3/10] film.speed = 0.001 m/s: 4 Newton steps, 1.2 s; about 8.4 s left
+
+    Other ranks print nothing.  Feed it from the drivers:
+
+    * :meth:`point` as each point (sweep value, study level) finishes;
+    * :meth:`failed` for a point that did not converge;
+    * :meth:`step` for sub-steps of the current point (load steps, continuation
+      steps): shown on the bar, or as a plain line at most every
+      ``min_interval`` seconds (every one with ``verbose``).
+
+    Used as a context manager it is the *active* reporter for the block, which
+    code far below the driver reaches through :func:`progress_step` without a
+    reference to it.  Results lines (:meth:`write`) go to stdout without breaking
+    the bar.
+
+    Args:
+        total: Number of points.
+        over: Name of the swept quantity (``film.speed``).
+        unit: Its unit (``m/s``), or ``""``.
+        what: What a point is (``point``, ``level``).
+        growth: Estimate the time left from the growth of the last two point
+            times (each next point ``r`` times the last, ``1 <= r <= 16``: refinement
+            studies) instead of the mean time per point (sweeps).
+        verbose: Every sub-step as a plain line.
+        stream: Where progress goes (default ``sys.stderr``).
+        tty: Force bar (True) or plain lines (False); default ``stream.isatty()``.
+        min_interval: Least time between two plain sub-step lines [s].
+        comm: Communicator; only its rank 0 prints.
+        leave: Keep the bar on the terminal when it closes (False: a single run's
+            bar of sub-steps disappears).
+    """
+
+    def __init__(
+        self,
+        total: int,
+        over: str = "",
+        unit: str = "",
+        what: str = "point",
+        growth: bool = False,
+        verbose: bool = False,
+        stream: Any = None,
+        tty: bool | None = None,
+        min_interval: float = 10.0,
+        comm: Any = None,
+        leave: bool = True,
+    ) -> None:
+        import sys
+        import time
+
+        self.total, self.over, self.unit, self.what = int(total), over, unit, what
+        self.growth, self.verbose, self.min_interval = growth, verbose, float(min_interval)
+        self.stream = stream if stream is not None else sys.stderr
+        self.enabled = (comm or COMM_WORLD).rank == 0
+        if tty is None:
+            isatty = getattr(self.stream, "isatty", None)
+            tty = bool(isatty and isatty())
+        self.tty = tty
+        self.done = 0
+        self.times: list[float] = []
+        self._clock = time.perf_counter
+        self._t_last = self._clock()
+        self._t_step = -math.inf
+        self._bar: Any = None
+        self._redirect: Any = None
+        if self.enabled and self.tty:
+            try:
+                from tqdm import tqdm
+            except ImportError:  # tqdm is a Debian package of the environment
+                self.tty = False
+            else:
+                self._bar = tqdm(total=self.total, file=self.stream, dynamic_ncols=True, leave=leave,
+                                 bar_format="{desc} {n_fmt}/{total_fmt} |{bar}| {postfix}",
+                                 desc=over or what)  # fmt: skip
+
+    # -------------------------------------------------------------- feeding
+    def _value(self, value: Any) -> str:
+        u = f" {self.unit}" if self.unit else ""
+        name = f"{self.over} = " if self.over else ""
+        return f"{name}{format_scalar(value)}{u}"
+
+    def eta(self) -> float:
+        """Estimated time left [s] (nan before the first point)."""
+        left = self.total - self.done
+        if not self.times:
+            return math.nan
+        if left <= 0:
+            return 0.0
+        if self.growth and len(self.times) >= 2 and self.times[-2] > 0:
+            r = min(max(self.times[-1] / self.times[-2], 1.0), 16.0)
+            return float(sum(self.times[-1] * r**k for k in range(1, left + 1)))
+        return left * sum(self.times) / len(self.times)
+
+    def point(self, value: Any, results: Mapping[str, Any] | None = None) -> None:
+        """A point finished at ``value`` (``results``: its record, for ``newton_iterations``)."""
+        now = self._clock()
+        dt, self._t_last = now - self._t_last, now
+        self.done += 1
+        self.times.append(dt)
+        newton = (results or {}).get("newton_iterations")
+        parts = [f"{newton} Newton steps"] if isinstance(newton, int) else []
+        parts.append(f"{_duration(dt)}")
+        left = self.eta()
+        tail = f"about {_duration(left)} left" if self.done < self.total else "done"
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.set_postfix_str(
+                f"{self._value(value)}, {', '.join(parts)}; {tail}", refresh=False
+            )
+            self._bar.update(1)
+        else:
+            self._print(
+                f"[{self.done}/{self.total}] {self._value(value)}: {', '.join(parts)}; {tail}"
+            )
+
+    def failed(self, value: Any, error: Any) -> None:
+        """A point at ``value`` failed with ``error`` (counted as done)."""
+        now = self._clock()
+        self.times.append(now - self._t_last)
+        self._t_last = now
+        self.done += 1
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.set_postfix_str(f"{self._value(value)} failed", refresh=False)
+            self._bar.update(1)
+        else:
+            self._print(f"[{self.done}/{self.total}] {self._value(value)}: failed ({error})")
+
+    def step(self, label: str, value: Any = None) -> None:
+        """A sub-step of the current point: ``label`` (``"load step 3"``) at ``value``
+        (e.g. the load fraction, or the continuation speed; None: no value)."""
+        if not self.enabled:
+            return
+        text = label if value is None else f"{label} {format_scalar(value)}"
+        if self._bar is not None:
+            self._bar.set_postfix_str(f"{self.what} {self.done + 1}: {text}")
+            return
+        now = self._clock()
+        if self.verbose or now - self._t_step >= self.min_interval:
+            self._t_step = now
+            self._print(f"  [{self.done + 1}/{self.total}] {text}")
+
+    def write(self, line: str) -> None:
+        """Print a results line to stdout (rank 0) without breaking the bar."""
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            import sys
+
+            self._bar.write(line, file=sys.stdout)
+        else:
+            print(line, flush=True)
+
+    def _print(self, line: str) -> None:
+        print(line, file=self.stream, flush=True)
+
+    def close(self) -> None:
+        """End the bar (idempotent)."""
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+    def __enter__(self) -> Progress:
+        _ACTIVE.append(self)
+        if self._bar is not None:
+            from tqdm.contrib.logging import logging_redirect_tqdm
+
+            self._redirect = logging_redirect_tqdm(loggers=[get_logger()])
+            self._redirect.__enter__()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self._redirect is not None:
+            self._redirect.__exit__(*exc)
+            self._redirect = None
+        self.close()
+        if self in _ACTIVE:
+            _ACTIVE.remove(self)
+
+
+def active_progress() -> Progress | None:
+    """The innermost :class:`Progress` used as a context manager, or None."""
+    return _ACTIVE[-1] if _ACTIVE else None
+
+
+def progress_step(label: str, value: Any = None) -> None:
+    """Report a sub-step (load step, continuation step) to the active :class:`Progress`
+    (:meth:`Progress.step`); nothing without one.  Call it on every rank."""
+    if _ACTIVE:
+        _ACTIVE[-1].step(label, value)
+
+
+def _duration(seconds: float) -> str:
+    """``0.42 s``, ``12 s``, ``3 min 20 s``, ``1 h 05 min``."""
+    if not math.isfinite(seconds):
+        return "? s"
+    if seconds < 10:
+        return f"{seconds:.2g} s"
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{int(seconds // 60)} min {int(seconds % 60):02d} s"
+    return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
+
+
+# ------------------------------------------------------------ fields for ParaView
+#: VTK cell type of each XDMF topology written by DOLFINx (P1 geometry).
+_VTK_CELLS = {"Triangle": 5, "Quadrilateral": 9, "Tetrahedron": 10, "Hexahedron": 12}
+
+
+def read_fields(path: str | Path) -> dict[str, Any]:
+    """Read back an XDMF file written by :func:`~dolfinx_seal.coupled.results.write_fields`.
+
+    Parses the XDMF XML and reads its HDF5 data with ``h5py`` (serial, any rank).
+    Returns ``{"points": (n, gdim), "cells": (m, k), "cell_type": "Tetrahedron", ...,
+    "point_data": {name: array}, "cell_data": {name: array}}``; a vector or tensor
+    field is an array of shape ``(n, components)`` (tensors flattened row by row,
+    3x3).  The rows follow the file's geometry and topology.
+    """
+    import xml.etree.ElementTree as ET
+
+    import h5py
+    import numpy as np
+
+    path = Path(path)
+    root = ET.parse(path).getroot()
+
+    def data(item: Any) -> Any:
+        file, _, key = item.text.strip().partition(":")
+        with h5py.File(path.parent / file, "r") as h5:
+            return np.asarray(h5[key])
+
+    grid = root.find(".//Grid[@GridType='Uniform']")
+    if grid is None:
+        raise ValueError(f"{path}: no mesh grid")
+    topo = grid.find("Topology")
+    out: dict[str, Any] = {
+        "points": data(grid.find("Geometry/DataItem")),
+        "cells": data(topo.find("DataItem")),
+        "cell_type": topo.get("TopologyType"),
+        "point_data": {},
+        "cell_data": {},
+    }
+    for attr in root.iter("Attribute"):
+        where = "point_data" if attr.get("Center") == "Node" else "cell_data"
+        out[where][attr.get("Name")] = data(attr.find("DataItem"))
+    return out
+
+
+def png_renderer() -> tuple[list[str] | None, str]:
+    """How to render off screen here: (command prefix, ``""``) or (None, why not).
+
+    pyvista (VTK) draws through an X server: ``$DISPLAY`` if set, else a virtual
+    one started by ``xvfb-run`` (Debian packages ``xvfb`` and ``xauth``).
+    """
+    import shutil
+
+    if importlib.util.find_spec("pyvista") is None:
+        return None, "pyvista is not installed"
+    if os.environ.get("DISPLAY"):
+        return [], ""
+    xvfb = shutil.which("xvfb-run")
+    if xvfb is None:
+        return None, "no X display and no xvfb-run (Debian packages xvfb, xauth)"
+    return [xvfb, "-a", "-s", "-screen 0 1600x1200x24"], ""
+
+
+def render_fields_png(xdmf: str | Path, png: str | Path, timeout: float = 300.0) -> bool:
+    """Draw ``png`` from the fields file ``xdmf`` off screen; True if it was written.
+
+    Runs :func:`_draw_fields` in a child process (under ``xvfb-run`` when there is
+    no display; MPI variables removed, so the child is a process of its own).
+    Never raises: without a renderer, or if drawing fails, it logs one line and
+    returns False.  Call it on one rank.
+    """
+    import subprocess
+    import sys
+
+    log = get_logger()
+    prefix, why = png_renderer()
+    if prefix is None:
+        log.info("fields picture %s skipped: %s", Path(png).name, why)
+        return False
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_"))}
+    code = (
+        "import sys, mpi4py; mpi4py.rc.initialize = False; "
+        "from dolfinx_seal.output import _draw_fields; _draw_fields(sys.argv[1], sys.argv[2])"
+    )
+    cmd = [*prefix, sys.executable, "-c", code, str(xdmf), str(png)]
+    try:
+        r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        log.info("fields picture %s skipped: %s", Path(png).name, e)
+        return False
+    if r.returncode != 0 or not Path(png).exists():
+        last = (r.stderr.strip().splitlines() or ["no message"])[-1]
+        log.info("fields picture %s skipped: the renderer failed (%s)", Path(png).name, last)
+        return False
+    return True
+
+
+def _draw_fields(xdmf: str | Path, png: str | Path) -> None:
+    """The picture of :func:`render_fields_png` (pyvista, in the child process).
+
+    Left: the deformed body seen from -y (the symmetry plane of a half model)
+    coloured by the von Mises stress [MPa].  Right: the loaded zone seen from
+    the counter-surface (from -z) coloured by the contact plus fluid pressure [MPa].
+    """
+    import numpy as np
+    import pyvista as pv
+
+    f = read_fields(xdmf)
+    pts = np.asarray(f["points"], dtype=float)
+    if pts.shape[1] < 3:
+        pts = np.hstack([pts, np.zeros((pts.shape[0], 3 - pts.shape[1]))])
+    cells = np.asarray(f["cells"], dtype=np.int64)
+    conn = np.hstack([np.full((cells.shape[0], 1), cells.shape[1]), cells]).ravel()
+    types = np.full(cells.shape[0], _VTK_CELLS[f["cell_type"]], dtype=np.uint8)
+    grid = pv.UnstructuredGrid(conn, types, pts)
+    for k, v in f["point_data"].items():
+        grid.point_data[k] = v
+    for k, v in f["cell_data"].items():
+        grid.cell_data[k] = v
+    if "displacement" in grid.point_data:
+        u = np.asarray(grid.point_data["displacement"], dtype=float)
+        u3 = np.hstack([u, np.zeros((u.shape[0], 3 - u.shape[1]))]) if u.shape[1] < 3 else u
+        grid.point_data["u3"] = u3
+        grid = grid.warp_by_vector("u3", factor=1.0)
+    pressure = np.zeros(grid.n_points)
+    for k in ("contact_pressure", "fluid_pressure"):
+        if k in grid.point_data:
+            pressure = pressure + np.maximum(np.asarray(grid.point_data[k], dtype=float), 0.0)
+    grid.point_data["pressure [MPa]"] = pressure / 1e6
+    if "von_mises_stress" in grid.cell_data:
+        grid.cell_data["von Mises stress [MPa]"] = grid.cell_data["von_mises_stress"] / 1e6
+    surf = grid.extract_surface()
+    pv.global_theme.font.color = "black"
+    plot = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800), border=False)
+    plot.set_background("white")
+    bar = {"vertical": True, "position_x": 0.8, "position_y": 0.1, "height": 0.7,
+           "title_font_size": 16, "label_font_size": 14}  # fmt: skip
+    if "von Mises stress [MPa]" in surf.cell_data:
+        plot.add_mesh(surf, scalars="von Mises stress [MPa]", cmap="viridis",
+                      scalar_bar_args={**bar, "title": "von Mises [MPa]"})  # fmt: skip
+    else:
+        plot.add_mesh(surf, color="lightgrey")
+    plot.add_text("deformed body: von Mises stress (seen from -y)", font_size=11)
+    plot.view_vector((0.0, -1.0, 0.0), viewup=(0.0, 0.0, 1.0))
+    plot.subplot(0, 1)
+    face = surf
+    p_surf = np.asarray(surf.point_data["pressure [MPa]"])
+    if p_surf.max() > 0:  # zoom on the loaded zone: a box twice its size, the lower cap
+        loaded = surf.points[p_surf > 1e-3 * p_surf.max()]
+        lo, hi = loaded.min(axis=0), loaded.max(axis=0)
+        mid, half = (lo + hi) / 2, np.maximum(hi - lo, 1e-9 * np.ptp(pts))
+        c = surf.cell_centers().points
+        near = np.flatnonzero(
+            np.all(np.abs(c[:, :2] - mid[:2]) <= half[:2], axis=1) & (c[:, 2] <= hi[2] + half.max())
+        )
+        if near.size:
+            face = surf.extract_cells(near)
+    plot.add_mesh(face, scalars="pressure [MPa]", cmap="magma",
+                  scalar_bar_args={**bar, "title": "pressure [MPa]"})  # fmt: skip
+    plot.add_text("contact face: contact + fluid pressure (seen from -z)", font_size=11)
+    plot.view_vector((0.0, 0.0, -1.0), viewup=(1.0, 0.0, 0.0))
+    plot.reset_camera()
+    with atomic_path(png) as tmp:
+        plot.screenshot(str(tmp))
+    plot.close()

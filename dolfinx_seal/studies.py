@@ -26,7 +26,7 @@ from typing import Any
 from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.output import SweepWriter, write_results
+from dolfinx_seal.output import Progress, SweepWriter, write_results
 from dolfinx_seal.params import check_choice, set_parameter, to_dict
 
 #: result key -> key of its analytical reference
@@ -45,8 +45,13 @@ def convergence_study(
     values: Sequence[float],
     quantities: Sequence[str],
     reference: str = "hertz",
+    progress: Progress | None = None,
 ) -> list[dict[str, Any]]:
-    """Run ``scene`` at each value of ``over`` (coarse to fine) and tabulate errors and times."""
+    """Run ``scene`` at each value of ``over`` (coarse to fine) and tabulate errors and times.
+
+    ``progress``: a :class:`~dolfinx_seal.output.Progress` told of every finished
+    level (use ``growth=True``: finer levels take longer).
+    """
     check_choice("reference", reference, ("hertz", "finest"))
     if len(values) < 2:
         raise ParameterError("a convergence study needs at least two levels (--values)")
@@ -69,6 +74,8 @@ def convergence_study(
                 row[f"{q}_error"] = abs(res[q] / res[HERTZ_KEYS[q]] - 1.0)
         rows.append(row)
         writer.append(row)
+        if progress is not None:
+            progress.point(v, res)
     if reference == "finest":
         for q in quantities:
             ref = rows[-1][q]

@@ -1,10 +1,43 @@
-"""Demos run at tiny sizes (they are importable functions with a CLI)."""
+"""Demos run at tiny sizes (they are importable functions with a CLI), and they
+are literate scripts (Jupytext percent format)."""
 
 from __future__ import annotations
 
+import ast
 import json
+import re
+import subprocess
+import sys
+from pathlib import Path
 
-from demos import ball_stribeck, obstacle, reynolds_1d
+import pytest
+
+from demos import ball_stribeck, cylinder_stribeck, obstacle, reynolds_1d
+
+DEMOS = sorted((Path(__file__).resolve().parents[1] / "demos").glob("[!_]*.py"))
+
+
+@pytest.mark.parametrize("path", DEMOS, ids=lambda p: p.name)
+def test_demo_is_a_literate_script(path):
+    """Percent format: a Markdown cell with the title first, prose cells between the
+    code cells, at least one equation, no module docstring left over."""
+    text = path.read_text()
+    assert text.startswith("# %% [markdown]\n# # "), "starts with a Markdown title cell"
+    cells = re.findall(r"^# %%( \[markdown\])?$", text, flags=re.M)
+    prose = sum(1 for c in cells if c)
+    assert prose >= 3 and len(cells) - prose >= 3, f"{prose} prose, {len(cells) - prose} code cells"
+    assert re.search(r"^# .*\$[^$]+\$", text, flags=re.M), "an equation in the prose"
+    assert ast.get_docstring(ast.parse(text)) is None, "the prose lives in Markdown cells"
+
+
+@pytest.mark.skip_in_parallel
+def test_demo_runs_as_a_script():
+    """``python3 demos/obstacle.py``: the percent cells are plain comments to Python."""
+    demo = Path(__file__).resolve().parents[1] / "demos" / "obstacle.py"
+    r = subprocess.run([sys.executable, str(demo), "--cells", "8"], capture_output=True,
+                       text=True, timeout=300, check=True)  # fmt: skip
+    assert "exact contact radius r* = 0.697965" in r.stdout
+    assert len(re.findall(r"^\s+8\s+(cold|nested)\s", r.stdout, flags=re.M)) == 2
 
 
 def test_reynolds_demo_tiny(mpi_tmp_path):
@@ -60,3 +93,16 @@ def test_lip_demo_tiny(mpi_tmp_path):
     names = {a.get("Name") for a in ET.parse(out / "fields.xdmf").iter("Attribute")}
     assert {"displacement", "fluid_pressure", "max_principal_strain", "contact_pressure",
             "separation"} <= names  # fmt: skip
+
+
+def test_cylinder_demo_tiny(mpi_tmp_path):
+    """The cylinder Stribeck demo: one curve, two speeds, 8 elements per half-width."""
+    out = mpi_tmp_path / "stribeck"
+    argv = ["--curves", "h1um", "--speeds", "1e-2,1e-1", "--elements", "8", "--out", str(out)]
+    cylinder_stribeck.main(argv)
+    from dolfinx_seal.mpi import COMM_WORLD
+
+    COMM_WORLD.barrier()
+    assert (out / "h1um" / "sweep.csv").read_text().count("\n") == 3  # header + two speeds
+    assert (out / "minima.csv").read_text().count("\n") == 2
+    assert (out / "stribeck.png").stat().st_size > 1000

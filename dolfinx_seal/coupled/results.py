@@ -255,15 +255,63 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
     plt.close(fig)
 
 
+def cauchy_stress(material: Any, F: Any, p: Any = None, eps: Any = None) -> Any:
+    """Cauchy stress (UFL, 3x3) [Pa] of ``material`` at the deformation gradient ``F``.
+
+    Hyperelastic models: ``sigma = (1/J) dpsi/dF F^T`` from the same strain
+    energy the problem minimises (``p``: the mixed pressure, or None).  The
+    small-strain model (no ``strain_energy``): ``sigma = dpsi/deps`` at the
+    small-strain tensor ``eps``.  Components in the kinematics' 3x3 frame:
+    (x, y, z) in 3D and plane strain, (r, z, theta) in axisymmetry.
+    """
+    if hasattr(material, "strain_energy"):
+        Fv = ufl.variable(F)
+        P = ufl.diff(material.strain_energy(Fv, p), Fv)
+        return P * Fv.T / ufl.det(Fv)
+    if eps is None:
+        raise ValueError("cauchy_stress: the small-strain model needs eps")
+    ev = ufl.variable(eps)
+    return ufl.diff(material.small_strain_energy(ev, p), ev)
+
+
+def von_mises(sigma: Any) -> Any:
+    """Von Mises equivalent stress ``sqrt(3/2 s:s)``, ``s`` the deviator of ``sigma`` (UFL) [Pa]."""
+    s = sigma - ufl.tr(sigma) / 3.0 * ufl.Identity(3)
+    return ufl.sqrt(1.5 * ufl.inner(s, s))
+
+
 def write_fields(
-    out: Path, prob: Any, name: str = "fields", extra: dict[str, Any] | None = None
+    out: Path,
+    prob: Any,
+    name: str = "fields",
+    extra: dict[str, Any] | None = None,
+    png: bool | None = None,
 ) -> Path:
-    """Write ``NAME.xdmf`` for ParaView (collective): displacement [m], fluid
-    pressure [Pa] and film fraction (JFO) where the problem has them, and each
-    UFL expression of ``extra`` (name -> expression, e.g. the asperity pressure or
-    the gap, meaningful on the contact surface) interpolated as a P1 field."""
+    """Write ``NAME.xdmf`` (+ ``NAME.h5``) for ParaView (collective); returns its path.
+
+    Fields, where the problem has them (SI):
+
+    * ``displacement`` [m] (P1 vector, nodes);
+    * ``cauchy_stress`` [Pa] (3x3 tensor, one value per cell: (x, y, z), or
+      (r, z, theta) in axisymmetry) and ``von_mises_stress`` [Pa] (per cell), from
+      the problem's strain energy (:func:`cauchy_stress`);
+    * ``contact_pressure`` [Pa] (asperity law at the gap) and ``gap`` [m] (distance
+      to the counter-surface along its normal), P1 on all nodes, meaningful on the
+      contact surface;
+    * ``fluid_pressure`` [Pa] and ``film_fraction`` [-] (JFO films only) of the film;
+    * each UFL expression of ``extra`` (name -> expression) as a P1 field; an extra
+      replaces the field of the same name or the same expression (e.g. the gap
+      written as ``separation``).
+
+    With ``png`` (default: on for 3D meshes) rank 0 also draws ``NAME.png``, the
+    deformed body coloured by the von Mises stress and the contact face by the
+    contact and fluid pressure, off screen (:func:`~dolfinx_seal.output.render_fields_png`;
+    skipped with a one-line notice when no renderer is available).
+    """
     import dolfinx
     import dolfinx.io
+
+    from dolfinx_seal.compat import interpolation_points
 
     mesh = prob.mesh
     out = Path(out)
@@ -272,13 +320,27 @@ def write_fields(
     mesh.comm.barrier()
     V1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
     S1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
-    from dolfinx_seal.compat import interpolation_points
+    extra = dict(extra or {})
+    given = [id(e) for e in extra.values()]
+
+    def interpolate(space: Any, key: str, expr: Any) -> Any:
+        f = dolfinx.fem.Function(space, name=key)
+        f.interpolate(dolfinx.fem.Expression(expr, interpolation_points(space.element)))
+        return f
 
     fields = []
     if prob.bulk:
-        u = dolfinx.fem.Function(V1, name="displacement")
-        u.interpolate(dolfinx.fem.Expression(prob.u, interpolation_points(V1.element)))
-        fields.append(u)
+        fields.append(interpolate(V1, "displacement", prob.u))
+        eps = prob.kin.eps(prob.u) if not hasattr(prob.material, "strain_energy") else None
+        sigma = cauchy_stress(prob.material, prob.F, prob.p_mix, eps)
+        T0 = dolfinx.fem.functionspace(mesh, ("DG", 0, (3, 3)))
+        D0 = dolfinx.fem.functionspace(mesh, ("DG", 0))
+        fields.append(interpolate(T0, "cauchy_stress", sigma))
+        fields.append(interpolate(D0, "von_mises_stress", von_mises(sigma)))
+    surface = {"contact_pressure": prob.p_cont, "gap": prob.gap}
+    for key, expr in surface.items():
+        if expr is not None and key not in extra and id(expr) not in given:
+            fields.append(interpolate(S1, key, expr))
     if prob.film is not None:
         p = dolfinx.fem.Function(S1, name="fluid_pressure")
         p.x.array[:] = prob.film.scales.pressure * prob.film.P.x.array
@@ -287,16 +349,27 @@ def write_fields(
             t = dolfinx.fem.Function(S1, name="film_fraction")
             t.x.array[:] = prob.film.theta_fn.x.array
             fields.append(t)
-    for key, expr in (extra or {}).items():
-        f = dolfinx.fem.Function(S1, name=key)
-        f.interpolate(dolfinx.fem.Expression(expr, interpolation_points(S1.element)))
-        fields.append(f)
+    fields = [f for f in fields if f.name not in extra]
+    fields += [interpolate(S1, key, expr) for key, expr in extra.items()]
     path = out / f"{name}.xdmf"
     with dolfinx.io.XDMFFile(mesh.comm, str(path), "w") as xdmf:
         xdmf.write_mesh(mesh)
         for f in fields:
             xdmf.write_function(f)
+    if png if png is not None else mesh.geometry.dim == 3:
+        from dolfinx_seal.output import render_fields_png
+
+        if mesh.comm.rank == 0:
+            render_fields_png(path, out / f"{name}.png")
+        mesh.comm.barrier()
     return path
 
 
-__all__ = ["lubricated_results", "write_fields", "write_film_map", "write_film_profile"]
+__all__ = [
+    "cauchy_stress",
+    "lubricated_results",
+    "von_mises",
+    "write_fields",
+    "write_film_map",
+    "write_film_profile",
+]

@@ -25,7 +25,13 @@ from typing import Any
 from dolfinx_seal import params as _params
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
-from dolfinx_seal.output import SweepWriter, check_out_dir, write_results, write_sweep_manifest
+from dolfinx_seal.output import (
+    Progress,
+    SweepWriter,
+    check_out_dir,
+    write_results,
+    write_sweep_manifest,
+)
 from dolfinx_seal.params import set_parameter as set_parameter  # part of the scenes API
 
 #: scene name -> module that defines ``SCENE``.
@@ -140,6 +146,7 @@ def sweep_scene(
     over: str,
     values: Sequence[float],
     force: bool = False,
+    progress: Progress | None = None,
 ) -> list[dict[str, Any]]:
     """Sweep scene ``name`` over parameter ``over`` (dotted path allowed).
 
@@ -153,6 +160,9 @@ def sweep_scene(
     results are refused unless ``force``, as in :func:`run_scene`) and the
     manifest ``sweep.json`` (scene, parameters, ``sweep_parameter``,
     ``sweep_values``) is written.
+
+    ``progress``: a :class:`~dolfinx_seal.output.Progress` told of every finished
+    or failed point (the scene modules need not know it).
     """
     scene = get(name)
     out = Path(out_dir)
@@ -170,6 +180,8 @@ def sweep_scene(
         row = {over: value, **_scalars(results)}
         rows.append(row)
         writer.append(row)
+        if progress is not None:
+            progress.point(value, row)
 
     if scene.sweep is not None:
         try:
@@ -185,6 +197,8 @@ def sweep_scene(
                 res = scene.run(p, out)
             except SolverError as e:
                 failed.append({over: v, "error": str(e)})
+                if progress is not None:
+                    progress.failed(v, e.what)
                 log.error("sweep point %s=%g failed: %s", over, v, e)
                 continue
             res.setdefault("wall_time_s", time.perf_counter() - pt0)

@@ -57,6 +57,7 @@ from typing import Any
 import numpy as np
 
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
+from dolfinx_seal.coupled.results import write_fields
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
@@ -519,7 +520,8 @@ def _title(params: LipParameters) -> str:
 
 # ---------------------------------------------------------------- run, sweep
 def run(params: LipParameters, out: Path) -> dict[str, Any]:
-    """Install, pressurise, bring the rod to speed (reciprocating); write the film."""
+    """Install, pressurise, bring the rod to speed (reciprocating); write the film
+    and ``fields.xdmf``."""
     t0 = time.perf_counter()
     lub = build(params)
     info = {"install_steps": len(lub.install.problem.steps),
@@ -532,6 +534,7 @@ def run(params: LipParameters, out: Path) -> dict[str, Any]:
                newton_iterations=pr["newton_iterations"] + sp["newton_iterations"],
                wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
     write_film(out, lub, params)
+    write_fields(out, lub.problem)
     return res
 
 
