@@ -139,7 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="dolfinx-seal", description=__doc__.splitlines()[0])
     parser.add_argument(
         "-v", "--verbose", action="store_true",
-        help="debug logging, and every sub-step of the progress",
+        help="debug logging: one line per Newton step, and every sub-step of the progress",
     )  # fmt: skip
     sub = parser.add_subparsers(dest="command", required=True)
 

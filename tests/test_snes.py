@@ -249,3 +249,14 @@ def test_mpc_assembly_without_constraints_is_the_plain_assembly():
     v, mu = ufl.TestFunction(V), ufl.TestFunction(R)
     with pytest.raises(ParameterError, match="one constraint"):
         NonlinearSolver([u * v * ufl.dx, lam * mu * ufl.dx], [u, lam], assembly=MPCAssembly(mpc))
+
+
+def test_verbose_logs_one_line_per_newton_step(caplog):
+    """``-v`` (debug logging) shows each Newton step with its residual norm."""
+    solver, _, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8)
+    with caplog.at_level("DEBUG", logger="dolfinx_seal.newton"):
+        h = solver.solve()
+    lines = [r.getMessage() for r in caplog.records if r.name == "dolfinx_seal.newton"]
+    assert len(lines) == len(h.residual_norms) >= 3
+    assert lines[0].endswith(f"Newton 0: |F| = {h.residual_norms[0]:.3e}")
+    solver.destroy()

@@ -24,6 +24,7 @@ from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import get_logger
+from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_positive, check_range
 from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
 
@@ -145,6 +146,7 @@ def _walk(
     walker = AdaptiveWalk(
         st.control(), film.set_speed, solve, prob.state, prob.restore,
         coordinate=AdaptiveWalk.log_speed(sign), name=f"{prob.name} speed continuation",
+        on_accept=lambda v, _its: progress_step(f"{prob.name} speed [m/s]", v),
     )  # fmt: skip
     failures = 0
     for i, target in enumerate(speeds):

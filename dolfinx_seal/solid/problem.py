@@ -36,6 +36,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_positive, check_range
 from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionControl
 from dolfinx_seal.solid.counter_surface import CounterSurface
@@ -436,6 +437,7 @@ class SolidContactProblem:
             nonlocal t0
             self.steps.append(StepRecord(t, its, time.perf_counter() - t0))
             t0 = time.perf_counter()
+            progress_step(f"{self.name} load fraction", t)
             if on_step is not None:
                 on_step(t)
 

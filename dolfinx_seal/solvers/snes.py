@@ -45,9 +45,12 @@ from petsc4py import PETSc
 
 from dolfinx_seal import compat
 from dolfinx_seal.errors import ParameterError, SolveHistory, SolverError
-from dolfinx_seal.mpi import print0
+from dolfinx_seal.mpi import get_logger, print0
 from dolfinx_seal.params import check_choice, check_int_range, check_positive
 from dolfinx_seal.solvers.assembly import Assembly, PlainAssembly
+
+#: ``-v`` shows one line per Newton step (debug records, rank 0)
+_NEWTON_LOG = get_logger("dolfinx_seal.newton")
 
 _counter = itertools.count()
 
@@ -323,6 +326,7 @@ class NonlinearSolver:
             self.history.linear_iterations.append(snes.getKSP().getIterationNumber())
         if self.options.monitor:
             print0(f"  {self.name} [{self.prefix}] Newton {it:3d}  |F| = {fnorm:.6e}")
+        _NEWTON_LOG.debug("%s Newton %d: |F| = %.3e", self.name, it, fnorm)  # -v: one line each
 
     def _converged(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
         """Convergence test with mesh-independent step criterion.
