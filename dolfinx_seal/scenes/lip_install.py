@@ -60,14 +60,14 @@ from dolfinx_seal.solvers import SNESOptions
 from geometry.lip import LipSealParams
 
 #: The default seal: an 80 x 100 x 10 mm radial shaft seal (ISO 6194-1 / DIN 3760
-#: type A nominal size, the section of :mod:`geometry.lip`) with a sharp moulded edge
-#: (0.05 mm), oil-side angle 45 deg and air-side angle 15 deg, 0.3 mm radial
+#: type A nominal size, the section of :mod:`geometry.lip`) with a moulded edge of
+#: 0.1 mm radius, oil-side angle 45 deg and air-side angle 15 deg, 0.3 mm radial
 #: interference and a garter spring of 170 N/m.  The spring was chosen so that the
 #: installed lip lands in the bands handbooks give for such seals (H. K. Muller and
 #: B. S. Nau, *Fluid Sealing Technology*, 1998, rotary lip seals; radial force per
 #: unit circumference as defined by SAE J1901): radial force 0.1-0.2 N/mm, sealing
 #: band 0.1-0.3 mm, peak pressure 0.5-2 MPa nearer the oil side.
-SEAL_GEOMETRY = {"tip_radius": 0.05e-3, "air_angle": 15.0}
+SEAL_GEOMETRY = {"tip_radius": 0.1e-3, "air_angle": 15.0}
 SEAL_SPRING_LOAD = 170.0  # N/m of groove circumference
 
 #: Combined roughness of a ground shaft (Ra 0.2-0.4 um) and a moulded lip: h_rms
