@@ -215,7 +215,8 @@ def check_types(obj: Any, prefix: str = "") -> None:
     The range checks of ``__post_init__`` see numbers; this catches what they do
     not when parameters are built directly in Python (``lubricated="no"``, a
     table of the wrong class, ``model=3``): bools must be bools, strings strings,
-    nested tables instances of their class.  Numbers are left to the range checks.
+    nested tables instances of their class.  Numbers are left to the range checks
+    (which refuse a bool or a string, quoting the allowed range).
     """
     for name, tp in _field_types(type(obj)).items():
         value = getattr(obj, name)
@@ -230,8 +231,6 @@ def check_types(obj: Any, prefix: str = "") -> None:
             check_bool(full, value)
         elif tp is str and not isinstance(value, str):
             raise ParameterError(f"{full} must be a string, got {value!r}", full)
-        elif tp in (float, int) and not _is_real(value):
-            raise ParameterError(f"{full} must be a number, got {value!r}", full)
 
 
 # ---------------------------------------------------- dataclasses <-> mappings
@@ -559,9 +558,10 @@ def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
             raise _unknown_key(here, part, value, fields)
         node = getattr(node, part)
     if dataclasses.is_dataclass(node):
+        names = list(_field_types(type(node)))
         raise ParameterError(
-            f"{dotted} is a table of parameters ({', '.join(sorted(_field_types(type(node))))}), "
-            f"not a value: name one of them, e.g. {dotted}.{sorted(_field_types(type(node)))[0]}",
+            f"{dotted} is a table of parameters ({', '.join(sorted(names))}), "
+            f"not a value: name one of them, e.g. {dotted}.{names[0]}",
             dotted,
         )
     data: Any = value

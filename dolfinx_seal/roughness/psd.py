@@ -371,7 +371,15 @@ class RoughnessParams:
                     f"{self.topography_file!r}"
                 )
         if self.psd_file or self.topography_file:
-            self.build()  # a missing, unreadable or malformed file stops here, before assembly
+            # a missing, unreadable or malformed file stops here, before anything is assembled
+            name = "roughness.psd_file" if self.psd_file else "roughness.topography_file"
+            try:
+                self.build()
+            except ParameterError as e:
+                if str(e).startswith(name):
+                    raise
+                path = self.psd_file or self.topography_file
+                raise ParameterError(f"{name} = {path!r}: {e}", name) from None
 
     def build(self) -> PowerSpectrum:
         """The :class:`PowerSpectrum` these parameters describe."""
