@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 import math
 import numbers
 import re
@@ -234,7 +235,9 @@ def check_types(obj: Any, prefix: str = "") -> None:
 
 
 # ---------------------------------------------------- dataclasses <-> mappings
+@functools.cache
 def _field_types(cls: type) -> dict[str, Any]:
+    """``name -> annotated type`` of the init fields of dataclass ``cls`` (do not modify)."""
     hints = typing.get_type_hints(cls)
     return {f.name: hints[f.name] for f in dataclasses.fields(cls) if f.init}
 
@@ -265,8 +268,8 @@ def _coerce(name: str, tp: Any, value: Any) -> Any:
     if isinstance(value, Mapping):
         raise ParameterError(f"{name} is a value, not a table: got {dict(value)!r}", name)
     if origin in (tuple, list):
-        if isinstance(value, str):
-            value = [s for s in value.replace("(", "").replace(")", "").split(",") if s.strip()]
+        if isinstance(value, str):  # "1,2", "(1, 2)" or "[1, 2]"
+            value = [s for s in re.sub(r"[()\[\]]", "", value).split(",") if s.strip()]
         if not isinstance(value, list | tuple):
             raise ParameterError(f"{name} must be a list, got {value!r}", name)
         item = args[0] if args else Any

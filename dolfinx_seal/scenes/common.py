@@ -40,7 +40,9 @@ class MaterialParams:
 
     def __post_init__(self) -> None:
         check_choice("model", self.model, tuple(MATERIALS))
-        self.build()  # validates E, nu, formulation, c01_ratio
+        if self.model != "mooney-rivlin":  # unused then, but never a non-finite value
+            check_range("c01_ratio", self.c01_ratio, 0.0, 1.0, hi_open=True)
+        self.build()  # validates E, nu, formulation (and c01_ratio of mooney-rivlin)
 
     def build(self) -> Any:
         """The material object."""
