@@ -120,7 +120,9 @@ def interval_text(
 
 
 def _is_real(value: Any) -> bool:
-    """A real number (Python or numpy), not a bool, a string or a container."""
+    """A real number (Python, numpy scalar or 0-d array), not a bool, a string or a container."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and np.issubdtype(value.dtype, np.number) and value.dtype.kind != "c"
     return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
 
 
