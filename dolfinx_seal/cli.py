@@ -15,7 +15,10 @@ Sub-commands:
 * ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
 * ``psd FILE``           -- PSD (``psd.csv``, ``psd.png``) and moments of a measured height map.
 
-``run`` and ``sweep`` appear once scenes are registered.  They refuse an ``--out``
+``run`` and ``sweep`` appear once scenes are registered.  Exit status: 0 done,
+2 a bad input (``ParameterError``, before anything is assembled), 3 a solver
+failure (``SolverError``; a sweep that did not finish every point, whose finished
+points are in ``sweep.csv``), each with one line on stderr and no traceback.  They refuse an ``--out``
 folder holding another scene's or other parameters' results (the same run again
 overwrites); ``--force`` writes anyway.  Unknown arguments
 starting with ``-`` that follow ``--petsc`` are passed to PETSc's options
@@ -113,7 +116,40 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             args.scene, p, out, args.over, values, force=args.force, progress=progress
         )
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
-    return 0 if len(rows) == len(values) else 1
+    if len(rows) == len(values):
+        return 0
+    done = {float(r[args.over]) for r in rows if args.over in r}
+    missing = [v for v in values if float(v) not in done]
+    reasons = _sweep_failures(Path(out), args.over)
+    why = f"; first failure: {reasons[0]}" if reasons else ""
+    raise SolverError(
+        f"sweep incomplete: {len(missing)} of {len(values)} points not finished ({args.over} = "
+        f"{', '.join(f'{v:g}' for v in missing)}){why}; the {len(rows)} finished points are in "
+        f"{out}/sweep.csv"
+    )
+
+
+def _sweep_failures(out: Path, over: str) -> list[str]:
+    """What stopped the points of a sweep, from ``results.json`` (points whose solve
+    raised) and ``sweep_failures.csv`` (continuation targets not reached)."""
+    import csv
+    import json
+
+    reasons: list[str] = []
+    try:
+        summary = json.loads((out / "results.json").read_text())
+        for f in summary.get("failed_points", []):
+            at = f"{over} = {f[over]:g}: " if isinstance(f.get(over), int | float) else ""
+            reasons.append(at + str(f.get("error", "")))
+    except (OSError, ValueError):
+        pass
+    try:
+        with (out / "sweep_failures.csv").open(newline="") as fh:
+            for row in csv.DictReader(fh):
+                reasons.append(f"film.speed = {float(row['speed']):g}: {row['error']}")
+    except (OSError, ValueError, KeyError):
+        pass
+    return reasons
 
 
 def _cmd_study(args: argparse.Namespace) -> int:
@@ -264,11 +300,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     setup_logging("DEBUG" if args.verbose else "INFO")
     try:
         return int(args.func(args))
-    except ParameterError as e:
-        print(f"dolfinx-seal: parameter error: {e}", file=sys.stderr)
+    except ParameterError as e:  # one line: the message may quote a file's line
+        print(f"dolfinx-seal: parameter error: {' '.join(str(e).split())}", file=sys.stderr)
         return 2
     except SolverError as e:
-        print(f"dolfinx-seal: solver error: {e}", file=sys.stderr)
+        print(f"dolfinx-seal: solver error: {' '.join(str(e).split())}", file=sys.stderr)
         return 3
 
 

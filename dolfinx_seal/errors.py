@@ -17,7 +17,18 @@ from typing import Any
 
 
 class ParameterError(ValueError):
-    """An input parameter is outside its allowed range (or of the wrong kind)."""
+    """An input parameter is outside its allowed range (or of the wrong kind).
+
+    Attributes:
+        parameter: The (dotted) name of the parameter the message is about, when
+            one parameter is at fault (``None`` otherwise); the checks of
+            :mod:`dolfinx_seal.params` set it, and building nested parameters
+            rewrites it (and the message) to the full dotted name.
+    """
+
+    def __init__(self, message: str, parameter: str | None = None) -> None:
+        super().__init__(message)
+        self.parameter = parameter
 
 
 @dataclass

@@ -18,7 +18,11 @@ All values are SI.
 from __future__ import annotations
 
 import dataclasses
+import difflib
+import functools
 import math
+import numbers
+import re
 import sys
 import tomllib
 import types
@@ -28,6 +32,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
+
+import numpy as np
 
 from dolfinx_seal.errors import ParameterError
 
@@ -104,14 +110,33 @@ def _record(name: str, value: Any, kind: str, **kw: Any) -> None:
 
 
 # --------------------------------------------------------------------- checks
-def check_finite(name: str, value: float) -> float:
-    """Raise :class:`ParameterError` unless ``value`` is a finite real number."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a real number, got {value!r}") from None
+def interval_text(
+    lo: float = -math.inf, hi: float = math.inf, lo_open: bool = False, hi_open: bool = False
+) -> str:
+    """``(0, inf)``, ``[1, 4]``, ...: the interval of a range check as error messages show it."""
+    left = "(" if lo_open or lo == -math.inf else "["
+    right = ")" if hi_open or hi == math.inf else "]"
+    return f"{left}{lo:g}, {hi:g}{right}"
+
+
+def _is_real(value: Any) -> bool:
+    """A real number (Python, numpy scalar or 0-d array), not a bool, a string or a container."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and np.issubdtype(value.dtype, np.number) and value.dtype.kind != "c"
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def check_finite(name: str, value: float, allowed: str = "") -> float:
+    """Raise :class:`ParameterError` unless ``value`` is a finite real number.
+
+    ``allowed`` (e.g. ``"(0, inf) m"``) is appended to the message.
+    """
+    tail = f" (allowed range {allowed})" if allowed else ""
+    if not _is_real(value):
+        raise ParameterError(f"{name} must be a real number, got {value!r}{tail}", name)
+    v = float(value)
     if not math.isfinite(v):
-        raise ParameterError(f"{name} must be finite, got {value!r}")
+        raise ParameterError(f"{name} must be finite, got {value!r}{tail}", name)
     return v
 
 
@@ -128,17 +153,15 @@ def check_range(
     """Check ``lo <= value <= hi`` (strict where ``*_open``) and return ``float(value)``.
 
     The error names the parameter, the value and the allowed interval, e.g.
-    ``nu = 0.6 is outside the allowed range (-1, 0.5)``.
+    ``nu = 0.6 is outside the allowed range (-1, 0.5]``; a value that is not a
+    finite real number (``nan``, ``inf``, a string) gets the interval too.
     """
-    v = check_finite(name, value)
+    rng = interval_text(lo, hi, lo_open, hi_open)
+    u = f" {unit}" if unit else ""
+    v = check_finite(name, value, rng + u)
     bad = (v < lo or (lo_open and v == lo)) or (v > hi or (hi_open and v == hi))
     if bad:
-        left = "(" if lo_open or lo == -math.inf else "["
-        right = ")" if hi_open or hi == math.inf else "]"
-        u = f" {unit}" if unit else ""
-        raise ParameterError(
-            f"{name} = {value!r}{u} is outside the allowed range {left}{lo:g}, {hi:g}{right}"
-        )
+        raise ParameterError(f"{name} = {value!r}{u} is outside the allowed range {rng}", name)
     _record(name, value, "range", lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
     return v
 
@@ -156,26 +179,67 @@ def check_nonnegative(name: str, value: float, unit: str = "") -> float:
 def check_choice(name: str, value: str, choices: Iterable[str]) -> str:
     """Check that ``value`` is one of ``choices``."""
     choices = tuple(choices)
-    if value not in choices:
-        raise ParameterError(f"{name} = {value!r} is not one of {', '.join(map(repr, choices))}")
+    try:
+        ok = value in choices
+    except TypeError:  # an unhashable value against a set-like
+        ok = False
+    if not ok:
+        raise ParameterError(
+            f"{name} = {value!r} is not one of {', '.join(map(repr, choices))}", name
+        )
     _record(name, value, "choice", choices=choices)
     return value
 
 
 def check_int_range(name: str, value: int, lo: int, hi: int | None = None) -> int:
     """Check an integer ``lo <= value <= hi``."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or int(value) != value:
-        raise ParameterError(f"{name} must be an integer, got {value!r}")
+    rng = f"[{lo}, {hi}]" if hi is not None else f"[{lo}, inf)"
+    if not _is_real(value) or not math.isfinite(value) or int(value) != value:
+        raise ParameterError(
+            f"{name} must be an integer, got {value!r} (allowed range {rng})", name
+        )
     v = int(value)
     if v < lo or (hi is not None and v > hi):
-        rng = f"[{lo}, {hi}]" if hi is not None else f"[{lo}, inf)"
-        raise ParameterError(f"{name} = {value!r} is outside the allowed range {rng}")
+        raise ParameterError(f"{name} = {value!r} is outside the allowed range {rng}", name)
     _record(name, value, "integer", lo=lo, hi=math.inf if hi is None else hi)
     return v
 
 
+def check_bool(name: str, value: Any) -> bool:
+    """Check that ``value`` is ``True`` or ``False`` (a string such as ``"no"`` is not)."""
+    if not isinstance(value, bool | np.bool_):
+        raise ParameterError(f"{name} must be true or false, got {value!r}", name)
+    return bool(value)
+
+
+def check_types(obj: Any, prefix: str = "") -> None:
+    """Check the kind of every field of parameter dataclass ``obj`` (recursively).
+
+    The range checks of ``__post_init__`` see numbers; this catches what they do
+    not when parameters are built directly in Python (``lubricated="no"``, a
+    table of the wrong class, ``model=3``): bools must be bools, strings strings,
+    nested tables instances of their class.  Numbers are left to the range checks
+    (which refuse a bool or a string, quoting the allowed range).
+    """
+    for name, tp in _field_types(type(obj)).items():
+        value = getattr(obj, name)
+        full = f"{prefix}{name}"
+        if _is_dataclass_type(tp):
+            if not isinstance(value, tp):
+                raise ParameterError(
+                    f"{full} must be a {tp.__name__} table of parameters, got {value!r}", full
+                )
+            check_types(value, f"{full}.")
+        elif tp is bool:
+            check_bool(full, value)
+        elif tp is str and not isinstance(value, str):
+            raise ParameterError(f"{full} must be a string, got {value!r}", full)
+
+
 # ---------------------------------------------------- dataclasses <-> mappings
+@functools.cache
 def _field_types(cls: type) -> dict[str, Any]:
+    """``name -> annotated type`` of the init fields of dataclass ``cls`` (do not modify)."""
     hints = typing.get_type_hints(cls)
     return {f.name: hints[f.name] for f in dataclasses.fields(cls) if f.init}
 
@@ -200,17 +264,16 @@ def _coerce(name: str, tp: Any, value: Any) -> Any:
                 return _coerce(name, a, value)
             except ParameterError as e:
                 errors.append(str(e))
-        raise ParameterError(f"{name}: cannot interpret {value!r} ({'; '.join(errors)})")
+        raise ParameterError(f"{name}: cannot interpret {value!r} ({'; '.join(errors)})", name)
     if origin is typing.Literal:
-        v = value
-        if v not in args:
-            raise ParameterError(f"{name} = {value!r} is not one of {', '.join(map(repr, args))}")
-        return v
+        return check_choice(name, value, args)
+    if isinstance(value, Mapping):
+        raise ParameterError(f"{name} is a value, not a table: got {dict(value)!r}", name)
     if origin in (tuple, list):
-        if isinstance(value, str):
-            value = [s for s in value.replace("(", "").replace(")", "").split(",") if s.strip()]
+        if isinstance(value, str):  # "1,2", "(1, 2)" or "[1, 2]"
+            value = [s for s in re.sub(r"[()\[\]]", "", value).split(",") if s.strip()]
         if not isinstance(value, list | tuple):
-            raise ParameterError(f"{name} must be a list, got {value!r}")
+            raise ParameterError(f"{name} must be a list, got {value!r}", name)
         item = args[0] if args else Any
         out = [_coerce(name, item, v) for v in value]
         return tuple(out) if origin is tuple else out
@@ -221,27 +284,70 @@ def _coerce(name: str, tp: Any, value: Any) -> Any:
             return True
         if isinstance(value, str) and value.lower() in ("0", "false", "no", "off"):
             return False
-        raise ParameterError(f"{name} must be true or false, got {value!r}")
+        raise ParameterError(f"{name} must be true or false, got {value!r}", name)
     if tp is int:
-        try:
-            f = float(value)
-        except (TypeError, ValueError):
-            raise ParameterError(f"{name} must be an integer, got {value!r}") from None
-        if f != int(f):
-            raise ParameterError(f"{name} must be an integer, got {value!r}")
+        f = _number(name, value, "an integer")
+        if not math.isfinite(f) or f != int(f):
+            raise ParameterError(f"{name} must be an integer, got {value!r}", name)
         return int(f)
     if tp is float:
-        if isinstance(value, bool):
-            raise ParameterError(f"{name} must be a number, got {value!r}")
-        try:
-            return float(value)
-        except (TypeError, ValueError):
-            raise ParameterError(f"{name} must be a number, got {value!r}") from None
+        return _number(name, value, "a number")
     if tp is str:
+        if isinstance(value, list | tuple | dict):
+            raise ParameterError(f"{name} must be a string, got {value!r}", name)
         return str(value)
     if tp is Path:
+        if not isinstance(value, str | Path):
+            raise ParameterError(f"{name} must be a path, got {value!r}", name)
         return Path(value)
     return value
+
+
+def _number(name: str, value: Any, kind: str) -> float:
+    """``float(value)`` for a number or a numeric string (not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, str | numbers.Real):
+        raise ParameterError(f"{name} must be {kind}, got {value!r}", name)
+    try:
+        return float(value)
+    except ValueError:
+        raise ParameterError(f"{name} must be {kind}, got {value!r}", name) from None
+
+
+def _allowed_text(cls: type, base: Any, key: str) -> str:
+    """What the checks of ``cls`` allow for field ``key`` (read off a default
+    instance, as ``dolfinx-seal params`` does), e.g. ``"(0, inf) m"``; "" if unchecked."""
+    try:
+        with recording_checks() as records:
+            obj = dataclasses.replace(base) if base is not None else cls()
+    except Exception:  # a class without complete defaults: nothing to read
+        return ""
+    for r in records:
+        if not any(o is obj for o in r.owners):
+            continue
+        if r.name != key and not r.name.endswith("." + key):
+            continue
+        if r.kind == "choice":
+            return "one of " + ", ".join(map(repr, r.choices))
+        if r.kind == "integer":
+            hi = "inf)" if r.hi == math.inf else f"{r.hi:g}]"
+            return f"integer in [{r.lo:g}, {hi}"
+        u = f" {r.unit}" if r.unit else ""
+        return interval_text(r.lo, r.hi, r.lo_open, r.hi_open) + u
+    return ""
+
+
+def _unknown_key(full: str, key: Any, value: Any, allowed: Iterable[str]) -> ParameterError:
+    """The error for an unknown key, suggesting the nearest allowed name."""
+    allowed = sorted(allowed)
+    near = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6)
+    hint = f" (did you mean {full[: len(full) - len(str(key))] + near[0]!r}?)" if near else ""
+    where = f" of {full.rsplit('.', 1)[0]}" if "." in full else ""
+    return ParameterError(
+        f"unknown parameter {full!r}{'' if value is None else f' = {value!r}'}{hint}; "
+        f"the names allowed{where} are: "
+        f"{', '.join(allowed)}",
+        full,
+    )
 
 
 def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: Any = None) -> T:
@@ -252,24 +358,41 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: 
     for that field (e.g. the ball's ``film.speed = 0.01`` survives
     ``--set film.viscosity=0.05``), or those of ``base`` when given.  A name
     that ``cls`` has renamed is refused with the new one (:func:`refuse_renamed`).
+
+    Every :class:`ParameterError` raised while building a nested table names the
+    parameter in full (``material.nu``, ``lip.interference``): the checks inside
+    a nested class see only its own field names, and the message is rewritten
+    here with the table's prefix.  A value that cannot be converted (``radius =
+    "abc"``) gets the allowed range of the field in the message.
     """
+    if not isinstance(data, Mapping):
+        where = prefix[:-1] or "parameters"
+        raise ParameterError(f"{where} must be a table of parameters, got {data!r}", where or None)
     refuse_renamed(cls, data, prefix)
     types_ = _field_types(cls)
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
         full = f"{prefix}{key}"
         if key not in types_:
-            raise ParameterError(
-                f"unknown parameter {full!r}; allowed: {', '.join(sorted(types_))}"
-            )
+            raise _unknown_key(full, key, value, types_)
         tp = types_[key]
         if _is_dataclass_type(tp):
             if not isinstance(value, Mapping):
-                raise ParameterError(f"{full} must be a table of parameters, got {value!r}")
+                raise ParameterError(
+                    f"{full} is a table of parameters ({', '.join(sorted(_field_types(tp)))}), "
+                    f"not a value: got {value!r}",
+                    full,
+                )
             inner = getattr(base, key) if base is not None else _field_default(cls, key)
             kwargs[key] = from_mapping(tp, value, prefix=f"{full}.", base=inner)
         else:
-            kwargs[key] = _coerce(full, tp, value)
+            try:
+                kwargs[key] = _coerce(full, tp, value)
+            except ParameterError as e:
+                allowed = _allowed_text(cls, base, key)
+                if not allowed:
+                    raise
+                raise ParameterError(f"{e} (allowed: {allowed})", full) from None
     try:
         if base is not None:
             return dataclasses.replace(base, **kwargs)
@@ -277,7 +400,7 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], prefix: str = "", base: 
     except ParameterError as e:
         if not prefix:
             raise
-        raise ParameterError(_dotted_message(str(e), cls, prefix)) from None
+        raise _dotted_error(e, cls, prefix) from None
 
 
 def refuse_renamed(cls: type, data: Mapping[str, Any], prefix: str = "") -> None:
@@ -334,21 +457,39 @@ def refuse_renamed(cls: type, data: Mapping[str, Any], prefix: str = "") -> None
                 )
 
 
-def _dotted_message(msg: str, cls: type, prefix: str) -> str:
-    """``msg`` of a check inside nested dataclass ``cls`` at ``prefix``, with the
-    parameter it starts with spelled in full (``interference = ...`` under
-    ``lip.`` becomes ``lip.interference = ...``; ``roughness.h_rms`` under
-    ``lip.roughness.`` becomes ``lip.roughness.h_rms``)."""
-    token = msg.split(" ", 1)[0]
-    if token.startswith(prefix):
-        return msg
-    head = token.split(".", 1)[0]
+def _dotted_error(e: ParameterError, cls: type, prefix: str) -> ParameterError:
+    """Error ``e`` of a check inside nested dataclass ``cls`` at ``prefix``, with the
+    parameter it is about spelled in full (``interference = ...`` under ``lip.``
+    becomes ``lip.interference = ...``; ``roughness.h_rms`` under
+    ``lip.roughness.`` becomes ``lip.roughness.h_rms``), and the other fields of
+    ``cls`` the message quotes (``... needs formulation = 'mixed'``) too."""
+    msg = str(e)
+    fields = {f.name for f in dataclasses.fields(cls)}
     owner = prefix[:-1].rsplit(".", 1)[-1]
-    if "." in token and head == owner:  # the check names itself "table.field"
-        return prefix[: -len(owner) - 1] + msg
-    if head in {f.name for f in dataclasses.fields(cls)}:
-        return prefix + msg
-    return msg
+    parent = prefix[: -len(owner) - 1]
+
+    def full(name: str) -> str | None:
+        if name.startswith(prefix):
+            return name
+        head = name.split(".", 1)[0]
+        if "." in name and head == owner:  # the check names itself "table.field"
+            return parent + name
+        if head in fields:
+            return prefix + name
+        return None
+
+    param = e.parameter or msg.split(" ", 1)[0]
+    new = full(param)
+    if new is not None and msg.startswith(param):
+        msg = new + msg[len(param) :]
+
+    def sub(m: re.Match[str]) -> str:
+        return full(m.group(1)) or m.group(1)
+
+    # other fields quoted as "name = value" later in the message
+    head_len = len(new or param) if msg.startswith(new or param) else 0
+    rest = re.sub(r"(?<![\w.'\"])([A-Za-z_]\w*(?:\.\w+)*)(?= = )", sub, msg[head_len:])
+    return ParameterError(msg[:head_len] + rest, new or e.parameter)
 
 
 def _field_default(cls: type, name: str) -> Any:
@@ -378,15 +519,26 @@ def parse_overrides(items: Iterable[str]) -> dict[str, Any]:
     """Turn ``["a=1", "b.c=x"]`` into the nested mapping ``{"a": "1", "b": {"c": "x"}}``."""
     out: dict[str, Any] = {}
     for item in items:
-        if "=" not in item:
+        if not isinstance(item, str) or "=" not in item:
             raise ParameterError(f"--set expects key=value, got {item!r}")
         key, value = item.split("=", 1)
         parts = key.strip().split(".")
+        if not all(re.fullmatch(r"[A-Za-z_][\w-]*", p) for p in parts):
+            raise ParameterError(
+                f"--set {item!r}: {key.strip()!r} is not a (dotted) parameter name"
+            )
         node = out
-        for p in parts[:-1]:
+        for i, p in enumerate(parts[:-1]):
             node = node.setdefault(p, {})
             if not isinstance(node, dict):
-                raise ParameterError(f"--set {key}: {p!r} is not a table")
+                raise ParameterError(
+                    f"--set {key}: {'.'.join(parts[: i + 1])!r} is given a value and a table",
+                    ".".join(parts[: i + 1]),
+                )
+        if isinstance(node.get(parts[-1]), dict):
+            raise ParameterError(
+                f"--set {key}: {key.strip()!r} is given a value and a table", key.strip()
+            )
         node[parts[-1]] = value.strip()
     return out
 
@@ -403,12 +555,37 @@ def merge(base: Mapping[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def load_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML scene file into a mapping (the optional ``scene`` key is kept)."""
+    """Read a TOML scene file into a mapping (the optional ``scene`` key is kept).
+
+    A missing, unreadable or malformed file, or a ``parameters`` entry that is
+    not a table, is a :class:`ParameterError` naming the file (and, for a syntax
+    error, the line and column).
+    """
     p = Path(path)
-    if not p.is_file():
+    if not p.exists():
         raise ParameterError(f"scene file {str(p)!r} does not exist")
-    with p.open("rb") as fh:
-        return tomllib.load(fh)
+    if not p.is_file():
+        raise ParameterError(f"scene file {str(p)!r} is not a file")
+    try:
+        with p.open("rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as e:
+        raise ParameterError(f"scene file {str(p)!r} cannot be read: {e.strerror or e}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise ParameterError(f"scene file {str(p)!r} is not valid TOML: {e}") from None
+    except UnicodeDecodeError as e:
+        raise ParameterError(f"scene file {str(p)!r} is not UTF-8 text: {e}") from None
+    if "scene" in data and not isinstance(data["scene"], str):
+        raise ParameterError(
+            f"scene file {str(p)!r}: scene = {data['scene']!r} must be a scene name", "scene"
+        )
+    if "parameters" in data and not isinstance(data["parameters"], dict):
+        raise ParameterError(
+            f"scene file {str(p)!r}: parameters = {data['parameters']!r} must be a table "
+            "([parameters])",
+            "parameters",
+        )
+    return data
 
 
 def replace(obj: T, **changes: Any) -> T:
@@ -429,15 +606,28 @@ def get_dotted(parameters: Any, dotted: str) -> Any:
 
 
 def set_parameter(parameters: Any, dotted: str, value: Any) -> Any:
-    """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``."""
+    """A copy of ``parameters`` with ``dotted`` (e.g. ``roughness.h_rms``) set to ``value``.
+
+    Validated as ``--set dotted=value`` is: errors name the full dotted parameter;
+    a renamed name is refused with the new one.
+    """
     refuse_renamed(type(parameters), {dotted: value})
-    head, _, rest = dotted.partition(".")
-    fields = {f.name: f for f in dataclasses.fields(parameters)}
-    if head not in fields:
-        raise ParameterError(f"unknown parameter {dotted!r}; allowed: {', '.join(sorted(fields))}")
-    if rest:
-        inner = set_parameter(getattr(parameters, head), rest, value)
-        return dataclasses.replace(parameters, **{head: inner})
-    data = to_dict(parameters)
-    data[head] = value
-    return from_mapping(type(parameters), data)
+    parts = str(dotted).split(".")
+    node: Any = parameters
+    for i, part in enumerate(parts):
+        fields = _field_types(type(node)) if dataclasses.is_dataclass(node) else {}
+        here = ".".join(parts[: i + 1])
+        if part not in fields:
+            raise _unknown_key(here, part, value, fields)
+        node = getattr(node, part)
+    if dataclasses.is_dataclass(node):
+        names = list(_field_types(type(node)))
+        raise ParameterError(
+            f"{dotted} is a table of parameters ({', '.join(sorted(names))}), "
+            f"not a value: name one of them, e.g. {dotted}.{names[0]}",
+            dotted,
+        )
+    data: Any = value
+    for part in reversed(parts):
+        data = {part: data}
+    return from_mapping(type(parameters), data, base=parameters)

@@ -20,7 +20,7 @@ import numpy as np
 
 from dolfinx_seal.coupled.continuation import order_speeds, speed_sweep
 from dolfinx_seal.coupled.results import lubricated_results
-from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.params import set_parameter
 
@@ -49,7 +49,10 @@ def lubricated_sweep(
     """Stribeck sweep of ``params`` over ``film.speed`` (``--over speed`` or ``film.speed``).
 
     Speeds are ordered by ``params.sweep_order``; the continuation options are
-    ``params.stepping``.  Returns the rows of the converged points.
+    ``params.stepping``.  Returns the rows of the converged points; a target the
+    continuation cannot reach is recorded (``sweep_failures.csv``) and skipped.  A
+    failure it cannot absorb (the start, or outside the continuation steps) raises
+    :class:`SolverError` with ``partial`` = the finished rows (``name`` added).
     """
     if name not in ("speed", "film.speed"):
         raise ParameterError(f"lubricated sweeps run over film.speed (got --over {name!r})")
@@ -67,19 +70,27 @@ def lubricated_sweep(
         r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
         return r
 
+    done: list[float] = []  # the speed of each row
+
     def point(v: float, r: dict[str, Any]) -> None:
         rows.append(r)
+        done.append(v)
         on_point(v, r)
         hooks.write_point(out / f"speed_{v:.3e}", prob, set_parameter(params, "film.speed", v))
 
     t0 = time.perf_counter()
-    start = hooks.start(prob, p0)
-    r0 = results()
-    r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
-              film_presolve_iterations=start.get("film_presolve_iterations", 0),
-              wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-    point(speeds[0], r0)
-    recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)
+    try:
+        start = hooks.start(prob, p0)
+        r0 = results()
+        r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
+                  film_presolve_iterations=start.get("film_presolve_iterations", 0),
+                  wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+        point(speeds[0], r0)
+        recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)
+    except SolverError as e:  # the sweep cannot go on: hand back the finished rows
+        if e.partial is None:
+            e.partial = [{name: s, **r} for s, r in zip(done, rows, strict=True)]
+        raise
     failed = [r for r in recs if not r.converged]
     if failed and COMM_WORLD.rank == 0:
         with (out / "sweep_failures.csv").open("w") as fh:

@@ -24,7 +24,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_choice, check_nonnegative, check_positive, check_range
+from dolfinx_seal.params import (
+    check_choice,
+    check_nonnegative,
+    check_positive,
+    check_range,
+    check_types,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -248,35 +254,65 @@ class SelfAffinePSD(PowerSpectrum):
         return cls(q0, q1, hurst, c0=(h0 / q0) ** 2 * hurst / (2.0 * math.pi))
 
 
-def read_psd_table(path: str | Path) -> PowerSpectrum:
+def read_psd_table(path: str | Path, *, name: str = "psd_file") -> PowerSpectrum:
     """Read a measured isotropic PSD: two columns ``q`` [1/m] and ``C`` [m^4].
 
     Whitespace- or comma-separated; lines starting with ``#`` are comments.  Rows
     must have strictly increasing ``q`` and positive ``C``.  Between rows the
-    spectrum is interpolated log-log (a power law per interval).
+    spectrum is interpolated log-log (a power law per interval).  ``name`` is the
+    parameter holding ``path`` (e.g. ``"roughness.psd_file"``), for messages.
     """
     p = Path(path)
+    if not p.exists():
+        raise ParameterError(f"{name} {str(p)!r} does not exist", name)
     if not p.is_file():
-        raise ParameterError(f"psd_file {str(p)!r} does not exist")
+        raise ParameterError(f"{name} {str(p)!r} is not a file", name)
+    try:
+        text = p.read_text()
+    except OSError as e:
+        raise ParameterError(f"{name} {str(p)!r} cannot be read: {e.strerror or e}", name) from None
+    except UnicodeDecodeError:
+        raise ParameterError(
+            f"{name} {str(p)!r} is not a text table of q [1/m] and C [m^4]", name
+        ) from None
     rows: list[tuple[float, float]] = []
-    for n, line in enumerate(p.read_text().splitlines(), start=1):
+    for n, line in enumerate(text.splitlines(), start=1):
         s = line.split("#", 1)[0].strip()
         if not s:
             continue
         parts = s.replace(",", " ").split()
         if len(parts) < 2:
-            raise ParameterError(f"{p}:{n}: expected two columns q [1/m] and C [m^4], got {s!r}")
+            raise ParameterError(
+                f"{name} {p}:{n}: expected two columns q [1/m] and C [m^4], got {s!r}", name
+            )
         try:
-            rows.append((float(parts[0]), float(parts[1])))
+            qn, cn = float(parts[0]), float(parts[1])
         except ValueError:
-            raise ParameterError(f"{p}:{n}: not numbers: {s!r}") from None
+            raise ParameterError(
+                f"{name} {p}:{n}: not numbers: {s!r} (rows of q [1/m] > 0 and C [m^4] > 0)", name
+            ) from None
+        if not (math.isfinite(qn) and math.isfinite(cn) and qn > 0 and cn > 0):
+            raise ParameterError(
+                f"{name} {p}:{n}: q = {parts[0]}, C = {parts[1]}: both must be finite and "
+                "positive (q [1/m] in (0, inf), C [m^4] in (0, inf))",
+                name,
+            )
+        if rows and qn <= rows[-1][0]:
+            raise ParameterError(
+                f"{name} {p}:{n}: q = {parts[0]} 1/m is not above the previous row's "
+                f"{rows[-1][0]!r}: q must be strictly increasing",
+                name,
+            )
+        rows.append((qn, cn))
     if len(rows) < 2:
-        raise ParameterError(f"{p}: a PSD table needs at least two rows, got {len(rows)}")
+        raise ParameterError(
+            f"{name} {p}: a PSD table needs at least two rows, got {len(rows)}", name
+        )
     q, c = np.array(rows).T
     try:
         return PowerSpectrum(q, c)
     except ParameterError as e:
-        raise ParameterError(f"{p}: {e}") from None
+        raise ParameterError(f"{name} {p}: {e}", name) from None
 
 
 @dataclass(frozen=True)
@@ -313,6 +349,7 @@ class RoughnessParams:
     topography_window: str = "hann"
 
     def __post_init__(self) -> None:
+        check_types(self, "roughness.")
         check_positive("roughness.h_rms", self.h_rms, "m")
         check_range("roughness.hurst", self.hurst, 0.0, 1.0, lo_open=True, hi_open=True)
         check_positive("roughness.q0", self.q0, "1/m")
@@ -333,11 +370,21 @@ class RoughnessParams:
                     f"(0, inf) when roughness.topography_file is set: give the pixel size of "
                     f"{self.topography_file!r}"
                 )
+        if self.psd_file or self.topography_file:
+            # a missing, unreadable or malformed file stops here, before anything is assembled
+            name = "roughness.psd_file" if self.psd_file else "roughness.topography_file"
+            try:
+                self.build()
+            except ParameterError as e:
+                if str(e).startswith(name):
+                    raise
+                path = self.psd_file or self.topography_file
+                raise ParameterError(f"{name} = {path!r}: {e}", name) from None
 
     def build(self) -> PowerSpectrum:
         """The :class:`PowerSpectrum` these parameters describe."""
         if self.psd_file:
-            return read_psd_table(self.psd_file)
+            return read_psd_table(self.psd_file, name="roughness.psd_file")
         if self.topography_file:
             from dolfinx_seal.roughness.topography import topography_psd
 

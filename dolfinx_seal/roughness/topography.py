@@ -152,6 +152,8 @@ def _parse_text(p: Path, name: str) -> tuple[FloatArray, float | None]:
     """Rows of numbers of a text height map, and the pixel size of its header (or None)."""
     try:
         text = p.read_text()
+    except OSError as e:
+        raise ParameterError(f"{name} {str(p)!r} cannot be read: {e.strerror or e}", name) from None
     except UnicodeDecodeError:
         raise ParameterError(
             f"{name} {str(p)!r} is not a text file; supported without SurfaceTopography: "
@@ -304,8 +306,10 @@ def read_height_map(
     p = Path(path)
     if pixel_size is not None:
         pixel_size = check_positive("pixel_size", pixel_size, "m")
+    if not p.exists():
+        raise ParameterError(f"{name} {str(p)!r} does not exist", name)
     if not p.is_file():
-        raise ParameterError(f"{name} {str(p)!r} does not exist")
+        raise ParameterError(f"{name} {str(p)!r} is not a file", name)
     suffix = p.suffix.lower()
     if suffix in NUMPY_SUFFIXES:
         try:

@@ -167,6 +167,8 @@ def sweep_scene(
     scene = get(name)
     out = Path(out_dir)
     set_parameter(parameters, over, _params.get_dotted(parameters, over))  # unknown names stop here
+    for v in values:  # and values outside the parameter's range, before any point is run
+        set_parameter(parameters, over, v)
     record = _params.to_dict(parameters)
     check_out_dir(out, name, record, over=over, values=list(values), force=force)
     write_sweep_manifest(out, name, record, over, list(values))
@@ -219,13 +221,27 @@ def sweep_scene(
 
 
 def parse_values(spec: str) -> list[float]:
-    """Sweep values from ``"a,b,c"`` or a range ``"start:stop:n"`` / ``"start:stop:n:log"``."""
+    """Sweep values from ``"a,b,c"`` or a range ``"start:stop:n"`` / ``"start:stop:n:log"``.
+
+    Raises :class:`ParameterError` for anything else (no values, words, a bad range).
+    """
+
+    def number(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise ParameterError(
+                f"--values {spec!r}: {text.strip()!r} is not a number "
+                "(give a,b,c or start:stop:n[:log])",
+                "--values",
+            ) from None
+
     if ":" in spec:
         parts = spec.split(":")
         if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("log", "lin")):
             raise ParameterError(f"--values range must be start:stop:n[:log], got {spec!r}")
-        a, b = float(parts[0]), float(parts[1])
-        n = _params.check_int_range("--values n", float(parts[2]), 1)
+        a, b = number(parts[0]), number(parts[1])
+        n = _params.check_int_range("--values n", number(parts[2]), 1)
         if len(parts) == 4 and parts[3] == "log":
             if a <= 0 or b <= 0:
                 raise ParameterError(f"--values log range needs positive ends, got {spec!r}")
@@ -237,9 +253,7 @@ def parse_values(spec: str) -> list[float]:
         if n == 1:
             return [a]
         return [a + i * (b - a) / (n - 1) for i in range(n)]
-    try:
-        return [float(s) for s in spec.split(",") if s.strip()]
-    except ValueError:
-        raise ParameterError(
-            f"--values must be numbers separated by commas, got {spec!r}"
-        ) from None
+    values = [number(s) for s in spec.split(",") if s.strip()]
+    if not values:
+        raise ParameterError(f"--values {spec!r} gives no values (a,b,c or start:stop:n[:log])")
+    return values

@@ -42,7 +42,13 @@ from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
+from dolfinx_seal.params import (
+    check_choice,
+    check_int_range,
+    check_positive,
+    check_range,
+    check_types,
+)
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import (
@@ -107,6 +113,7 @@ class BallParameters:
     stepping: SpeedStepping = field(default_factory=lambda: SpeedStepping(film_presolve=False))
 
     def __post_init__(self) -> None:
+        check_types(self)
         check_positive("radius", self.radius, "m")
         check_positive("load", self.load, "N")
         check_choice("shape", self.shape, ("half", "full"))
@@ -127,9 +134,12 @@ class BallParameters:
                 "so run the dry contact, lubricated = false)"
             )
         if a > 0.4 * self.radius:
+            f_max = self.load * (0.4 * self.radius / a) ** 3  # a ~ F^(1/3)
             raise ParameterError(
                 f"load = {self.load!r} N gives a Hertz radius {a:.3g} m > 0.4 R: outside the "
-                "small-contact regime of this scene"
+                f"small-contact regime of this scene; allowed range (0, {f_max:.4g}] N at "
+                f"radius = {self.radius!r} m and material.E* = {self.material.E_star:.4g} Pa",
+                "load",
             )
 
 

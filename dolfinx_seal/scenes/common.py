@@ -17,7 +17,7 @@ from dolfinx_seal.errors import SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.params import check_choice, check_range
 from dolfinx_seal.roughness.psd import RoughnessParams
-from dolfinx_seal.solid.materials import make_material
+from dolfinx_seal.solid.materials import MATERIALS, make_material
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,10 @@ class MaterialParams:
     c01_ratio: float = 0.2
 
     def __post_init__(self) -> None:
-        self.build()  # validates E, nu, formulation, model
+        check_choice("model", self.model, tuple(MATERIALS))
+        if self.model != "mooney-rivlin":  # unused then, but never a non-finite value
+            check_range("c01_ratio", self.c01_ratio, 0.0, 1.0, hi_open=True)
+        self.build()  # validates E, nu, formulation (and c01_ratio of mooney-rivlin)
 
     def build(self) -> Any:
         """The material object."""

@@ -39,7 +39,13 @@ from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import create_mesh
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
+from dolfinx_seal.params import (
+    check_choice,
+    check_int_range,
+    check_positive,
+    check_range,
+    check_types,
+)
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import (
@@ -96,6 +102,7 @@ class CylinderParameters:
     stepping: SpeedStepping = field(default_factory=SpeedStepping)
 
     def __post_init__(self) -> None:
+        check_types(self)
         check_positive("radius", self.radius, "m")
         check_positive("load", self.load, "N/m")
         check_int_range("degree", self.degree, 1, 3)
@@ -107,9 +114,12 @@ class CylinderParameters:
             "h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
         )
         if a > 0.3 * self.radius:
+            f_max = self.load * (0.3 * self.radius / a) ** 2  # a ~ F^(1/2)
             raise ParameterError(
                 f"load = {self.load!r} N/m gives a Hertz half-width {a:.3g} m > 0.3 R: "
-                "outside the small-contact regime of this scene"
+                f"outside the small-contact regime of this scene; allowed range (0, {f_max:.4g}] "
+                f"N/m at radius = {self.radius!r} m and material.E* = {self.material.E_star:.4g} Pa",
+                "load",
             )
         if not self.lubricated and not self.bulk:
             raise ParameterError(

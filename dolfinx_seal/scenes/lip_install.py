@@ -46,7 +46,7 @@ from dolfinx_seal.compat import interpolation_points
 from dolfinx_seal.coupled.results import write_fields
 from dolfinx_seal.meshing import create_mesh
 from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.params import check_int_range, check_nonnegative
+from dolfinx_seal.params import check_int_range, check_nonnegative, check_types
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.common import ContactLawParams, MaterialParams, write_profile
@@ -108,6 +108,7 @@ class LipInstallParameters:
     degree: int = 2
 
     def __post_init__(self) -> None:
+        check_types(self)
         check_nonnegative("spring_load", self.spring_load, "N/m")
         check_int_range("degree", self.degree, 1, 3)
 

@@ -399,9 +399,9 @@ def test_roughness_params_validation(kwargs, match):
 
 
 def test_roughness_params_missing_map_names_parameter(tmp_path):
-    r = RoughnessParams(topography_file=str(tmp_path / "none.npy"), pixel_size=A)
+    # the file is read when the parameters are built, before anything is assembled
     with pytest.raises(ParameterError, match=r"roughness\.topography_file '.*none\.npy' does not"):
-        r.build()
+        RoughnessParams(topography_file=str(tmp_path / "none.npy"), pixel_size=A)
 
 
 def test_topography_report(tmp_path, gaussian_map):
