@@ -66,12 +66,28 @@ def get_logger(name: str = "dolfinx_seal") -> logging.Logger:
     return logging.getLogger(name)
 
 
+class _StderrHandler(logging.StreamHandler):
+    """A stream handler on the *current* ``sys.stderr`` (looked up at each record), so
+    that a CLI called many times in one process (tests) never writes to a closed stream."""
+
+    def __init__(self) -> None:
+        super().__init__(sys.stderr)
+
+    @property  # type: ignore[override]
+    def stream(self) -> Any:
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, _value: Any) -> None:
+        pass
+
+
 def setup_logging(level: int | str = logging.INFO, comm: Any = None) -> None:
     """Send package log records to stderr from rank 0 only (called by the CLI and demos)."""
     logger = get_logger()
     logger.setLevel(level)
     if not any(getattr(h, "_dolfinx_seal", False) for h in logger.handlers):
-        h = logging.StreamHandler(sys.stderr)
+        h = _StderrHandler()
         h.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
         h.addFilter(Rank0Filter(comm))
         h._dolfinx_seal = True  # type: ignore[attr-defined]

@@ -338,7 +338,9 @@ class NonlinearSolver:
         """
         _xnorm, _ynorm, fnorm = norms
         R = PETSc.SNES.ConvergedReason
-        if not np.isfinite(fnorm):
+        # a VI solver's fnorm is the norm over the free set, 0 for an all-NaN residual:
+        # check the residual itself too
+        if not (np.isfinite(fnorm) and np.isfinite(snes.getFunction()[0].norm())):
             return R.DIVERGED_FNORM_NAN
         if it == 0:
             self._fnorm0 = fnorm
