@@ -42,7 +42,7 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/lip_mesh.py
 	$(DX) python3 bench/lip_extremes.py
 
-soak:  ## long (about half an hour): memory over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*.csv, .png)
+soak:  ## long (about an hour): memory over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*.csv, .png)
 	$(DX) python3 bench/soak.py
 	$(DX) mpirun -n $(NP) python3 bench/soak.py
 

@@ -126,8 +126,9 @@ def speed_cycle(speeds: list[float], n: int) -> list[float]:
 class Recorder:
     """Per-point memory census, written to a CSV row at once."""
 
-    def __init__(self, out: Path, name: str, h_contact: float) -> None:
+    def __init__(self, out: Path, name: str, h_contact: float, keeps_results: bool) -> None:
         self.out = out
+        self.keeps_results = keeps_results  # a sweep returns its rows; run_scene keeps none
         self.h_contact = h_contact
         self.scratch = out / f".{name}_petsc_log.txt"
         self.writer = SweepWriter(out, f"{name}.csv")
@@ -136,7 +137,8 @@ class Recorder:
         self.kept = 0
 
     def point(self, speed: float, r: dict[str, Any]) -> None:
-        self.kept += deep_size(r)  # the sweep keeps its result rows (by design)
+        if self.keeps_results:  # the sweep keeps its result rows (by design)
+            self.kept += deep_size(r)
         gc.collect()
         rss = COMM_WORLD.allgather(rss_kb())
         alive, options = petsc_census(self.scratch)
@@ -269,7 +271,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.points <= args.warmup + 1:
         raise SystemExit("--points must exceed --warmup + 1")
     work = out / f"{name}_runs"
-    rec = Recorder(out, name, args.h_contact)
+    rec = Recorder(out, name, args.h_contact, keeps_results=args.mode == "sweep")
     print0(f"soak ({args.mode}): {args.points} points, h_contact = {args.h_contact:g} m, "
            f"ranks: {COMM_WORLD.size}")  # fmt: skip
     if args.mode == "sweep":
