@@ -4,7 +4,7 @@ DX ?= scripts/dx
 NP ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-slow lint bench env
+.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-slow lint bench soak env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
@@ -41,6 +41,10 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/ball_extremes.py
 	$(DX) python3 bench/lip_mesh.py
 	$(DX) python3 bench/lip_extremes.py
+
+soak:  ## long (about an hour): memory over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*.csv, .png)
+	$(DX) python3 bench/soak.py
+	$(DX) mpirun -n $(NP) python3 bench/soak.py
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"
