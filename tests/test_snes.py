@@ -260,3 +260,16 @@ def test_verbose_logs_one_line_per_newton_step(caplog):
     assert len(lines) == len(h.residual_norms) >= 3
     assert lines[0].endswith(f"Newton 0: |F| = {h.residual_norms[0]:.3e}")
     solver.destroy()
+
+
+def test_destroy_removes_the_options_it_set():
+    """A solver's default options live under its own prefix in PETSc's global options
+    database; destroy() takes them out again (a sweep that builds a solver per point
+    would otherwise grow the database without bound, bench/soak.py)."""
+    before = set(PETSc.Options().getAll())
+    solver, _ = _string_on_obstacle(MPI.COMM_WORLD, n=20)
+    solver.solve()
+    added = set(PETSc.Options().getAll()) - before
+    assert any(k.startswith(solver.prefix) for k in added)
+    solver.destroy()
+    assert set(PETSc.Options().getAll()) == before

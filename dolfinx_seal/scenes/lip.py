@@ -171,6 +171,12 @@ class LubricatedLip:
     face_pressures: tuple[Any, Any] | None = None
     film_only: Any = None
 
+    def destroy(self) -> None:
+        """Free the PETSc objects of the coupled and the film-only solvers (collective)."""
+        self.problem.destroy()
+        if self.film_only is not None:
+            self.film_only.destroy()
+
     @property
     def sealed_pressures(self) -> tuple[float, float]:
         """The oil and air pressures [Pa] the film's edges hold now."""
@@ -524,17 +530,20 @@ def run(params: LipParameters, out: Path) -> dict[str, Any]:
     and ``fields.xdmf``."""
     t0 = time.perf_counter()
     lub = build(params)
-    info = {"install_steps": len(lub.install.problem.steps),
-            "install_time_s": lub.install.solve_time_s}  # fmt: skip
-    pr = solve_pressures(lub, params)
-    sp = solve_speed(lub, params)
-    res = results(lub, params)
-    res.update(info)
-    res.update(pressure_steps=pr["pressure_steps"],
-               newton_iterations=pr["newton_iterations"] + sp["newton_iterations"],
-               wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-    write_film(out, lub, params)
-    write_fields(out, lub.problem)
+    try:
+        info = {"install_steps": len(lub.install.problem.steps),
+                "install_time_s": lub.install.solve_time_s}  # fmt: skip
+        pr = solve_pressures(lub, params)
+        sp = solve_speed(lub, params)
+        res = results(lub, params)
+        res.update(info)
+        res.update(pressure_steps=pr["pressure_steps"],
+                   newton_iterations=pr["newton_iterations"] + sp["newton_iterations"],
+                   wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+        write_film(out, lub, params)
+        write_fields(out, lub.problem)
+    finally:
+        lub.destroy()
     return res
 
 
@@ -554,20 +563,22 @@ def sweep(
         name = "film.speed"
     if name not in SWEEPABLE:
         raise ParameterError(f"lip sweeps run over {' or '.join(SWEEPABLE)} (got --over {name!r})")
-    log = get_logger()
     rows: list[dict[str, Any]] = []
     if name == "oil_pressure":
         vals = sorted(float(v) for v in values)
         lub = build(params)
-        for v in vals:
-            t0 = time.perf_counter()
-            pv = set_parameter(params, "oil_pressure", v)
-            info = move_oil_pressure(lub, pv)
-            r = results(lub, pv)
-            r.update(info, wall_time_s=time.perf_counter() - t0, converged=True)
-            rows.append(r)
-            on_point(v, r)
-            write_film(out / f"oil_pressure_{v:.3e}", lub, pv)
+        try:
+            for v in vals:
+                t0 = time.perf_counter()
+                pv = set_parameter(params, "oil_pressure", v)
+                info = move_oil_pressure(lub, pv)
+                r = results(lub, pv)
+                r.update(info, wall_time_s=time.perf_counter() - t0, converged=True)
+                rows.append(r)
+                on_point(v, r)
+                write_film(out / f"oil_pressure_{v:.3e}", lub, pv)
+        finally:
+            lub.destroy()
         return rows
     # speed
     speeds = [float(v) for v in values]
@@ -575,49 +586,66 @@ def sweep(
         if min(speeds) < 0:
             raise ParameterError("film.speed: rotary shaft speeds are >= 0")
         lub = build(set_parameter(params, "film.speed", max(speeds)))
-        t0 = time.perf_counter()
-        pr = solve_pressures(lub, params)
-        for v in sorted(speeds):
-            pv = set_parameter(params, "film.speed", v)
-            r = results(lub, pv)
-            r.update(newton_iterations=pr["newton_iterations"] if not rows else 0,
-                     wall_time_s=time.perf_counter() - t0 if not rows else 0.0, converged=True)  # fmt: skip
-            rows.append(r)
-            on_point(v, r)
-        write_film(out, lub, params)
+        try:
+            t0 = time.perf_counter()
+            pr = solve_pressures(lub, params)
+            for v in sorted(speeds):
+                pv = set_parameter(params, "film.speed", v)
+                r = results(lub, pv)
+                r.update(newton_iterations=pr["newton_iterations"] if not rows else 0,
+                         wall_time_s=time.perf_counter() - t0 if not rows else 0.0,
+                         converged=True)  # fmt: skip
+                rows.append(r)
+                on_point(v, r)
+            write_film(out, lub, params)
+        finally:
+            lub.destroy()
         return rows
     for sign in (1.0, -1.0):
         chain = sorted((v for v in speeds if math.copysign(1.0, v) == sign and v != 0), key=abs)
         if not chain:
             continue
         lub = build(set_parameter(params, "film.speed", chain[0]))
-        t0 = time.perf_counter()
-        pr = solve_pressures(lub, params)
-        first = set_parameter(params, "film.speed", chain[0])
         try:
-            sp = solve_speed(lub, first)
-        except SolverError as e:
-            log.error("lip sweep: the chain at %s m/s did not start: %s", chain[0], e.what)
-            continue
-
-        def point(v: float, r: dict[str, Any], lub: LubricatedLip = lub) -> None:
-            pv = set_parameter(params, "film.speed", v)
-            rr = results(lub, pv)
-            rr.update(newton_iterations=r.get("newton_iterations", 0),
-                      continuation_steps=r.get("continuation_steps", 1),
-                      wall_time_s=r.get("wall_time_s", 0.0), converged=True)  # fmt: skip
-            rows.append(rr)
-            on_point(v, rr)
-            write_film(out / f"speed_{v:+.3e}", lub, pv)
-
-        r0 = {"newton_iterations": pr["newton_iterations"] + sp["newton_iterations"],
-              "wall_time_s": time.perf_counter() - t0}  # fmt: skip
-        point(chain[0], r0)
-        speed_sweep(lub.problem, chain[1:], point, dict, params.stepping)
+            _stroke_chain(lub, params, chain, out, rows, on_point)
+        finally:
+            lub.destroy()
     strokes = stroke_summary(rows, params.stroke_length)
     if strokes:
         write_strokes(out, strokes)
     return rows
+
+
+def _stroke_chain(
+    lub: LubricatedLip, params: LipParameters, chain: list[float], out: Path,
+    rows: list[dict[str, Any]], on_point: Any,
+) -> None:  # fmt: skip
+    """One stroke direction of a reciprocating sweep: pressurise, start at the slowest
+    speed of ``chain``, continue through the others (rows appended as they converge)."""
+    from dolfinx_seal.scenes import set_parameter
+
+    t0 = time.perf_counter()
+    pr = solve_pressures(lub, params)
+    try:
+        sp = solve_speed(lub, set_parameter(params, "film.speed", chain[0]))
+    except SolverError as e:
+        get_logger().error("lip sweep: the chain at %s m/s did not start: %s", chain[0], e.what)
+        return
+
+    def point(v: float, r: dict[str, Any], lub: LubricatedLip = lub) -> None:
+        pv = set_parameter(params, "film.speed", v)
+        rr = results(lub, pv)
+        rr.update(newton_iterations=r.get("newton_iterations", 0),
+                  continuation_steps=r.get("continuation_steps", 1),
+                  wall_time_s=r.get("wall_time_s", 0.0), converged=True)  # fmt: skip
+        rows.append(rr)
+        on_point(v, rr)
+        write_film(out / f"speed_{v:+.3e}", lub, pv)
+
+    r0 = {"newton_iterations": pr["newton_iterations"] + sp["newton_iterations"],
+          "wall_time_s": time.perf_counter() - t0}  # fmt: skip
+    point(chain[0], r0)
+    speed_sweep(lub.problem, chain[1:], point, dict, params.stepping)
 
 
 def stroke_summary(rows: list[dict[str, Any]], stroke_length: float) -> list[dict[str, float]]:

@@ -310,6 +310,7 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
                   f"peak {pmax / 1e6:.2f} MPa")  # fmt: skip
     write_fields(out, prob, extra={"max_principal_strain": principal_strain(prob),
                                    "contact_pressure": prob.p_cont, "gap": prob.gap})  # fmt: skip
+    prob.destroy()
     return res
 
 

@@ -374,6 +374,11 @@ class SolidContactProblem:
         """Global number of unknowns (film dofs off the lubricated surface excluded)."""
         return sum(self.dof_counts().values())
 
+    def destroy(self) -> None:
+        """Free the solver's PETSc objects (collective: call it on every rank; under MPI
+        petsc4py cannot free a parallel object on its own)."""
+        self.solver.destroy()
+
     def dof_counts(self) -> dict[str, int]:
         """Global number of unknowns per field.
 
