@@ -37,7 +37,12 @@ law scalars and writes ``fields.xdmf``; the dry point starts from the Hertz
 pressure (:func:`~dolfinx_seal.scenes.common.solve_dry`) and reports
 :func:`dry_results`; the sweep walks ``film.speed`` with continuation.
 
-Why a dataclass of functions and not a base class: a scene then reads as
+The law and the film are built here, not in the ``problem`` hook, because
+they are the same for every client (the law from ``p.contact`` at the Hertz
+approach; the film scaled by the Hertz pressure and size, ``h_rms`` and the
+contact element, with the roughness spectrum for the Persson flow factor); the
+dry profile is a hook because the cylinder plots every contact node and the
+ball the x axis only.  Why a dataclass of functions and not a base class: a scene then reads as
 module-level functions with plain signatures (tests and benchmarks call
 ``build_lubricated`` / ``start_lubricated`` of a scene module, a benchmark may
 patch the module's ``create_mesh``), and the template's own steps stay in one
