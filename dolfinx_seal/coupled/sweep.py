@@ -1,103 +1,16 @@
-"""Stribeck sweeps of lubricated scenes: speed continuation, incremental output, plots.
+"""Stribeck rows of lubricated sweeps: the curve's plot and its minimum.
 
-A scene supplies how to build its coupled problem, how to start it and how to
-write one point; :func:`lubricated_sweep` does the rest the same way for every
-scene (cylinder, ball): start at the first speed of the ordered list, walk the
-others with :func:`~dolfinx_seal.coupled.continuation.speed_sweep`, hand each
-converged point to ``on_point`` at once (``sweep.csv``), record failed targets
-in ``sweep_failures.csv`` and go on from the last good point.
+The sweep itself (speed continuation, incremental output) is
+:meth:`dolfinx_seal.scenes.lubricated.LubricatedScene.sweep`; these act on the
+rows it returns (``eta_v``, ``mu`` and its parts, the load split, film thickness).
 """
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-from dolfinx_seal.coupled.continuation import order_speeds, speed_sweep
-from dolfinx_seal.coupled.results import lubricated_results
-from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.mpi import COMM_WORLD
-from dolfinx_seal.params import set_parameter
-
-
-@dataclass(frozen=True)
-class SweepHooks:
-    """What a scene supplies to :func:`lubricated_sweep`.
-
-    Attributes:
-        build: ``params -> (problem, info)``; ``info["nominal_area"]`` is the
-            nominal contact area (length in 2D) [m^2 or m].
-        start: ``(problem, params) -> solver figures``: first converged state.
-        write_point: ``(out_dir, problem, params)``: per-point profiles/maps.
-        symmetry_factor: Multiplies integrals over a symmetric half model.
-    """
-
-    build: Callable[[Any], tuple[Any, dict[str, Any]]]
-    start: Callable[[Any, Any], dict[str, Any]]
-    write_point: Callable[[Path, Any, Any], None]
-    symmetry_factor: float = 1.0
-
-
-def lubricated_sweep(
-    params: Any, out: Path, name: str, values: list[float], on_point: Any, hooks: SweepHooks
-) -> list[dict[str, Any]]:
-    """Stribeck sweep of ``params`` over ``film.speed`` (``--over speed`` or ``film.speed``).
-
-    Speeds are ordered by ``params.sweep_order``; the continuation options are
-    ``params.stepping``.  Returns the rows of the converged points; a target the
-    continuation cannot reach is recorded (``sweep_failures.csv``) and skipped.  A
-    failure it cannot absorb (the start, or outside the continuation steps) raises
-    :class:`SolverError` with ``partial`` = the finished rows (``name`` added).
-    """
-    if name not in ("speed", "film.speed"):
-        raise ParameterError(f"lubricated sweeps run over film.speed (got --over {name!r})")
-    if not params.lubricated:
-        raise ParameterError("lubricated = false: a speed sweep needs the film")
-    speeds = order_speeds(values, params.sweep_order)
-    p0 = set_parameter(params, "film.speed", speeds[0])
-    prob, info = hooks.build(p0)
-    rows: list[dict[str, Any]] = []
-
-    def results() -> dict[str, Any]:
-        r = lubricated_results(
-            prob, symmetry_factor=hooks.symmetry_factor, nominal_area=info["nominal_area"]
-        )
-        r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
-        return r
-
-    done: list[float] = []  # the speed of each row
-
-    def point(v: float, r: dict[str, Any]) -> None:
-        rows.append(r)
-        done.append(v)
-        on_point(v, r)
-        hooks.write_point(out / f"speed_{v:.3e}", prob, set_parameter(params, "film.speed", v))
-
-    t0 = time.perf_counter()
-    try:
-        start = hooks.start(prob, p0)
-        r0 = results()
-        r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
-                  film_presolve_iterations=start.get("film_presolve_iterations", 0),
-                  wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-        point(speeds[0], r0)
-        recs = speed_sweep(prob, speeds[1:], point, results, params.stepping)
-    except SolverError as e:  # the sweep cannot go on: hand back the finished rows
-        if e.partial is None:
-            e.partial = [{name: s, **r} for s, r in zip(done, rows, strict=True)]
-        raise
-    failed = [r for r in recs if not r.converged]
-    if failed and COMM_WORLD.rank == 0:
-        with (out / "sweep_failures.csv").open("w") as fh:
-            fh.write("speed,error\n")
-            for r in failed:
-                fh.write(f'{r.speed!r},"{r.error}"\n')
-    return rows
 
 
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
@@ -155,4 +68,4 @@ def stribeck_minimum(eta_v: Any, mu: Any) -> tuple[float, float, bool]:
     return float(10**xv), float(10 ** (c0 + c1 * xv + c2 * xv * xv)), True
 
 
-__all__ = ["SweepHooks", "lubricated_sweep", "plot_sweep", "stribeck_minimum"]
+__all__ = ["plot_sweep", "stribeck_minimum"]

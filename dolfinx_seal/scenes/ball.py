@@ -21,27 +21,26 @@ the half model's), the contact radius from the second moment of the pressure
 (``a = (5 <r^2> / 2)^(1/2)``, exact for a Hertz distribution), peak pressure,
 the Hertz references, and the pressure along the x axis (``pressure.csv``,
 ``pressure.png``).
+
+A configuration of :class:`~dolfinx_seal.scenes.lubricated.LubricatedScene`
+(run, dry run, sweep, results): this module holds the parameters and the hooks.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import ufl
 
 from dolfinx_seal.contact.hertz import hertz_point
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep, start_coupled
-from dolfinx_seal.coupled.results import lubricated_results, write_fields, write_film_map
-from dolfinx_seal.coupled.sweep import SweepHooks, lubricated_sweep, plot_sweep
+from dolfinx_seal.coupled.results import write_film_map
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
-from dolfinx_seal.meshing import create_mesh
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.film.surface import FilmParams
+from dolfinx_seal.meshing import TaggedMesh, create_mesh
 from dolfinx_seal.params import (
     check_choice,
     check_int_range,
@@ -50,21 +49,24 @@ from dolfinx_seal.params import (
     check_types,
 )
 from dolfinx_seal.roughness.psd import RoughnessParams
-from dolfinx_seal.scenes import Scene
-from dolfinx_seal.scenes.common import (
-    ContactLawParams,
-    MaterialParams,
-    solve_dry,
-    write_profile,
+from dolfinx_seal.scenes.common import ContactLawParams, MaterialParams
+from dolfinx_seal.scenes.lubricated import (
+    Control,
+    LubricatedScene,
+    Scales,
+    film_snes,
+    write_dry_profile,
 )
-from dolfinx_seal.scenes.cylinder import dry_results
-from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionControl
+from dolfinx_seal.solid.body import Body, Dirichlet
 from dolfinx_seal.solid.counter_surface import Flat
 from dolfinx_seal.solid.kinematics import Solid3D
 from dolfinx_seal.solid.problem import SolidContactProblem
 from dolfinx_seal.solid.step_limits import StepLimits
 from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
+
+START_FILM = 4.0  # central film of the start point, in h_rms
+GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
 
 
 @dataclass(frozen=True)
@@ -143,102 +145,68 @@ class BallParameters:
             )
 
 
-def run(params: BallParameters, out: Path) -> dict[str, Any]:
-    """Solve one point (lubricated or dry); write the maps/profiles; return the results."""
-    if params.lubricated:
-        return run_lubricated(params, out)
-    return run_dry(params, out)
+def scales(p: BallParameters) -> Scales:
+    """Hertz point contact: radius, peak pressure, nominal area ``pi a^2``; the half
+    model carries half the load."""
+    a, p_h = hertz_point(p.load, p.radius, p.material.E_star)
+    f = 2.0 if p.shape == "half" else 1.0
+    report = {"hertz_contact_radius": a, "hertz_peak_pressure": p_h, "symmetry_factor": f}
+    if p.lubricated:
+        report["nominal_area"] = math.pi * a**2
+    return Scales(length=a, pressure=p_h, nominal_area=math.pi * a**2, approach=a**2 / p.radius,
+                  line=False, symmetry_factor=f, report=report)  # fmt: skip
 
 
-def _mesh(params: BallParameters, a_h: float, comm: Any = None) -> Any:
+def mesh(p: BallParameters, s: Scales, comm: Any) -> TaggedMesh:
     """The ball mesh; lubricated: the contact cap (radius ``film_extent a``) is the film."""
     extra: dict[str, Any] = {}
-    if params.lubricated:
-        extra = dict(cap_extent=params.film_extent, fine_extent=min(1.5, params.film_extent - 0.1))
+    if p.lubricated:
+        extra = dict(cap_extent=p.film_extent, fine_extent=min(1.5, p.film_extent - 0.1))
     return create_mesh(
-        "ball", comm=comm or COMM_WORLD, radius=params.radius, shape=params.shape,
-        contact_radius=a_h, h_contact=params.h_contact,
-        h_cap=max(2 * params.h_contact, min(0.3e-3, a_h / 2)), growth=params.mesh_growth,
-        **extra,
+        "ball", comm=comm, radius=p.radius, shape=p.shape, contact_radius=s.length,
+        h_contact=p.h_contact, h_cap=max(2 * p.h_contact, min(0.3e-3, s.length / 2)),
+        growth=p.mesh_growth, **extra,
     )  # fmt: skip
 
 
-def _bcs(params: BallParameters, tm: Any) -> list[Dirichlet]:
+def problem(p: BallParameters, tm: TaggedMesh, s: Scales, law: Any, film: Any,
+            control: Control) -> SolidContactProblem:  # fmt: skip
+    """3D on a flat, loaded on the top face (and ``u_y = 0`` on the symmetry plane).
+    Newton steps: half an element; no film gap closed by more than ``GAP_CLOSURE``
+    of itself or three decay lengths of the contact law."""
     bcs = [Dirichlet(tm.tag("load"))]
-    if params.shape == "half":
+    if p.shape == "half":
         bcs.append(Dirichlet(tm.tag("symmetry"), component=1))
-    return bcs
-
-
-def build_lubricated(
-    params: BallParameters, comm: Any = None, position: float | None = None
-) -> tuple[SolidContactProblem, dict[str, Any]]:
-    """The coupled problem (film on the contact cap) and scalars describing it.
-
-    Args:
-        params: Scene parameters.
-        comm: Communicator (default COMM_WORLD).
-        position: None: force control (the flat's position is an unknown);
-            otherwise the flat's position [m] (position control, e.g. to check a
-            parallel solution on one rank).
-    """
-    e_star = params.material.E_star
-    a_h, p_h = hertz_point(params.load, params.radius, e_star)
-    law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
-    h_rms = params.roughness.h_rms
-    tm = _mesh(params, a_h, comm)
-    half = params.shape == "half"
-    film = SurfaceFilm(
-        params.film, FilmScales(pressure=p_h, length=a_h, gap=h_rms, element=params.h_contact),
-        h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan) if law is not None else math.nan,
-        e_star=e_star, no_flux_tags=(tm.tag("symmetry"),) if half else (),
-    )  # fmt: skip
     # backtracking: with full (limited) steps, 0.03 -> 0.018 m/s (a/15) wandered and
     # jumped to a residual 4x the start at step 10; with "bt" it reached 0.01 m/s
-    snes = SNESOptions(
-        max_it=60, dtol=1e12, rtol=1e-11, line_search="bt",
-        snes_type="vinewtonssls" if params.film.cavitation == "jfo" else "vinewtonrsls",
-    )  # fmt: skip
-    factor = 2.0 if half else 1.0
-    body = Body(Solid3D(), params.material.build(), _bcs(params, tm), degree=params.degree)
-    control = (ForceControl(params.load / factor) if position is None
-               else PositionControl(position, position0=position))  # fmt: skip
+    lub = film is not None
+    snes = film_snes(p.film, line_search="bt") if lub else SNESOptions(max_it=60, dtol=1e12)
     limits = StepLimits(
-        max_step=0.5 * params.h_contact, max_gap_closure=GAP_CLOSURE,
-        max_gap_step=3.0 * _decay_length(law) if law is not None else None,
+        max_step=0.5 * p.h_contact,
+        max_gap_step=3.0 * law.h_rms / law.alpha if law is not None else None,  # decay lengths
+        max_gap_closure=GAP_CLOSURE if lub else None,
     )  # fmt: skip
-    prob = SolidContactProblem(tm.mesh, tm.facet_tags, body, Flat(axis=2), control,
-                               tm.tag("contact"), law=law, film=film, limits=limits, snes=snes,
-                               name="ball")  # fmt: skip
-    info = {
-        "hertz_contact_radius": a_h,
-        "hertz_peak_pressure": p_h,
-        "nominal_area": math.pi * a_h**2,
-        "symmetry_factor": factor,
-        "contact_law": law.name if law is not None else "none",
-        **law_info,
-    }
-    return prob, info
+    return SolidContactProblem(
+        tm.mesh, tm.facet_tags, Body(Solid3D(), p.material.build(), bcs, degree=p.degree),
+        Flat(axis=2), control, tm.tag("contact"), law=law, film=film, limits=limits, snes=snes,
+        name="ball",
+    )  # fmt: skip
 
 
-def start_speed(params: BallParameters) -> float:
+def start_speed(p: BallParameters) -> float:
     """Speed U [m/s] of the first coupled solve: a hydrodynamic one, where the
     Hamrock-Dowson central film (:mod:`dolfinx_seal.verification.ehl`, u_m = U/2) is
     ``START_FILM`` h_rms, so that the asperities carry little and the Persson law
     is in its soft tail; never below ``film.speed``.  Without asperity contact:
     ``film.speed``."""
-    f = params.film
-    if params.contact.model == "none":
+    f = p.film
+    if p.contact.model == "none":
         return f.speed
-    hd = IsoviscousElasticFilm(params.radius, params.material.E_star, f.viscosity, params.load)
-    return max(f.speed, 2.0 * hd.mean_speed_for_central(START_FILM * params.roughness.h_rms))
+    hd = IsoviscousElasticFilm(p.radius, p.material.E_star, f.viscosity, p.load)
+    return max(f.speed, 2.0 * hd.mean_speed_for_central(START_FILM * p.roughness.h_rms))
 
 
-START_FILM = 4.0  # central film of the start point, in h_rms
-GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
-
-
-def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[str, Any]:
+def start(prob: SolidContactProblem, p: BallParameters, s: Scales) -> dict[str, Any]:
     """First converged state at ``film.speed``.
 
     The ball is deformed under the Hertz pressure, the flat placed at the
@@ -251,20 +219,16 @@ def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[
     p/E* ~ 0.1 the Persson law sits at separations of ~0.05 h_rms, where the
     gap errors of the Hertz-deformed shape are decades of pressure.
     """
-    f = params.film
-    e_star = params.material.E_star
-    a_h, p_h = hertz_point(params.load, params.radius, e_star)
-    v0 = start_speed(params)
-    hd = IsoviscousElasticFilm(params.radius, e_star, f.viscosity, params.load)
-    X = prob.X
-    guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] ** 2 + X[1] ** 2) / a_h**2, 0.0))
+    f = p.film
+    v0 = start_speed(p)
+    hd = IsoviscousElasticFilm(p.radius, p.material.E_star, f.viscosity, p.load)
     prob.film.set_speed(v0)
     info = start_coupled(
-        prob, v0, v0, params.stepping, "ball", pressure_guess=guess,
+        prob, v0, v0, p.stepping, "ball", pressure_guess=s.hertz_pressure(prob.X),
         peak_gap=hd.h_central(0.5 * v0), film_guess=True,
     )  # fmt: skip
     if f.speed < v0:
-        recs = speed_sweep(prob, [f.speed], lambda *_: None, dict, params.stepping)
+        recs = speed_sweep(prob, [f.speed], lambda *_: None, dict, p.stepping)
         if not recs[-1].converged:
             raise SolverError(
                 f"coupled solve did not reach film.speed = {f.speed:g} m/s: {recs[-1].error}",
@@ -275,108 +239,38 @@ def start_lubricated(prob: SolidContactProblem, params: BallParameters) -> dict[
     return info
 
 
-def _title(params: BallParameters) -> str:
-    f = params.film
-    rough = (f"h_rms = {params.roughness.h_rms * 1e6:g} um" if params.contact.model != "none"
-             else "smooth")  # fmt: skip
-    return f"ball F = {params.load:g} N, U = {f.speed:.3g} m/s, {rough}, {f.cavitation}"
+def write_point(out: Path, prob: SolidContactProblem, p: BallParameters) -> None:
+    """``film_map.csv`` / ``film_map.png`` over the contact (at most 2 a across)."""
+    f = p.film
+    rough = f"h_rms = {p.roughness.h_rms * 1e6:g} um" if p.contact.model != "none" else "smooth"
+    title = f"ball F = {p.load:g} N, U = {f.speed:.3g} m/s, {rough}, {f.cavitation}"
+    write_film_map(out, prob, title, extent=min(p.film_extent, 2.0) * scales(p).length)
 
 
-def _write_point(out: Path, prob: SolidContactProblem, params: BallParameters) -> None:
-    a_h, _ = hertz_point(params.load, params.radius, params.material.E_star)
-    write_film_map(out, prob, _title(params), extent=min(params.film_extent, 2.0) * a_h)
-
-
-def run_lubricated(params: BallParameters, out: Path) -> dict[str, Any]:
-    """One lubricated point at ``film.speed``."""
-    t0 = time.perf_counter()
-    prob, info = build_lubricated(params)
-    solve_info = start_lubricated(prob, params)
-    res = lubricated_results(
-        prob, symmetry_factor=info["symmetry_factor"], nominal_area=info["nominal_area"]
-    )
-    res.update(info)
-    res.update(solve_info)
-    res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=COMM_WORLD.size,
-               wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-    _write_point(out, prob, params)
-    write_fields(out, prob)
-    return res
-
-
-def sweep(
-    params: BallParameters, out: Path, name: str, values: list[float], on_point: Any
-) -> list[dict[str, Any]]:
-    """Stribeck sweep over ``film.speed`` with continuation
-    (:func:`~dolfinx_seal.coupled.sweep.lubricated_sweep`)."""
-    half = params.shape == "half"
-    hooks = SweepHooks(
-        build=build_lubricated, start=start_lubricated, write_point=_write_point,
-        symmetry_factor=2.0 if half else 1.0,
-    )  # fmt: skip
-    return lubricated_sweep(params, out, name, values, on_point, hooks)
-
-
-def build_dry(
-    params: BallParameters, comm: Any = None
-) -> tuple[SolidContactProblem, dict[str, Any]]:
-    """The dry problem (no film unknowns, force control) and scalars describing it."""
-    e_star = params.material.E_star
-    a_h, p_h = hertz_point(params.load, params.radius, e_star)
-    law, law_info = params.contact.build(params.roughness, e_star, approach=a_h**2 / params.radius)
-    tm = _mesh(params, a_h, comm)
-    factor = 2.0 if params.shape == "half" else 1.0
-    body = Body(Solid3D(), params.material.build(), _bcs(params, tm), degree=params.degree)
-    limits = StepLimits(max_step=0.5 * params.h_contact, max_gap_step=3.0 * _decay_length(law))
-    prob = SolidContactProblem(
-        tm.mesh, tm.facet_tags, body, Flat(axis=2), ForceControl(params.load / factor),
-        tm.tag("contact"), law=law, limits=limits, snes=SNESOptions(max_it=60, dtol=1e12),
-        name="ball",
-    )  # fmt: skip
-    info = {"hertz_contact_radius": a_h, "hertz_peak_pressure": p_h, "symmetry_factor": factor,
-            "contact_law": law.name, **law_info}  # fmt: skip
-    return prob, info
-
-
-def run_dry(params: BallParameters, out: Path) -> dict[str, Any]:
-    """Solve the dry ball; write the pressure profile along x; return the results."""
-    t0 = time.perf_counter()
-    prob, info = build_dry(params)
-    a_h, p_h = info["hertz_contact_radius"], info["hertz_peak_pressure"]
-    factor = info["symmetry_factor"]
-    X = prob.X
-    guess = p_h * ufl.sqrt(ufl.max_value(1.0 - (X[0] ** 2 + X[1] ** 2) / a_h**2, 0.0))
-    solve_info = solve_dry(prob, guess, p_h)
-    res = dry_results(prob, params.load / factor, line=False, symmetry_factor=factor)
-    res.update(solve_info)
-    res.update(info)
-    res.update(dofs=prob.dofs, ranks=COMM_WORLD.size, wall_time_s=time.perf_counter() - t0,
-               converged=True)  # fmt: skip
-    Xs, p = prob.surface_values(prob.p_cont, average=True)
-    on_axis = np.abs(Xs[:, 1]) < 1e-9 * params.radius
-    x, pa = Xs[on_axis, 0], p[on_axis]
+def write_dry(out: Path, prob: SolidContactProblem, p: BallParameters,
+              s: Scales) -> dict[str, Any]:  # fmt: skip
+    """``pressure.csv`` / ``pressure.png`` along the x axis (y = 0) against Hertz."""
+    Xs, pc = prob.surface_values(prob.p_cont, average=True)
+    on_axis = np.abs(Xs[:, 1]) < 1e-9 * p.radius
+    x, pa = Xs[on_axis, 0], pc[on_axis]
     order = np.argsort(x)
     x, pa = x[order], pa[order]
-    hz = p_h * (1.0 - (x / a_h) ** 2).clip(min=0.0) ** 0.5
-    write_profile(
-        out, "pressure", {"x_m": x, "p_contact_Pa": pa, "p_hertz_Pa": hz},
-        title=f"dry ball, F = {params.load:g} N, law: {info['contact_law']} (y = 0)",
-        xlabel="x [mm]", ylabel="contact pressure [MPa]",
-        curves={"FEM": (x * 1e3, pa / 1e6), "Hertz": (x * 1e3, hz / 1e6)},
-    )  # fmt: skip
-    return res
+    write_dry_profile(out, s, f"dry ball, F = {p.load:g} N, law: {prob.law.name} (y = 0)", x, pa)
+    return {}
 
 
-def _decay_length(law: Any) -> float:
-    """Gap over which the contact pressure changes by a factor e (at large gaps) [m]."""
-    return law.h_rms / law.alpha
-
-
-SCENE = Scene(
+BALL = LubricatedScene(
     name="ball",
     summary="rubber ball on a flat (S1 sec 3): 3D soft EHL film + Persson contact, or dry",
     parameters=BallParameters,
-    run=run,
-    sweep=lambda *a: sweep(*a),
-    plot_sweep=lambda *a: plot_sweep(*a),
-)
+    scales=scales, mesh=mesh, problem=problem, start=start, write_point=write_point,
+    write_dry=write_dry,
+)  # fmt: skip
+SCENE = BALL.scene
+run, run_lubricated, run_dry, sweep = BALL.run, BALL.run_lubricated, BALL.run_dry, BALL.sweep
+build_lubricated, start_lubricated, build_dry = (
+    BALL.build_lubricated, BALL.start_lubricated, BALL.build_dry
+)  # fmt: skip
+
+__all__ = ["BALL", "SCENE", "BallParameters", "build_dry", "build_lubricated", "run",
+           "start_lubricated", "sweep"]  # fmt: skip

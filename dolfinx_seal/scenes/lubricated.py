@@ -1,0 +1,403 @@
+"""The template of the lubricated-contact scenes (``cylinder``, ``ball``): one
+implementation of the lubricated point, the dry point, the Stribeck sweep, their
+results and their plots, over a few hooks that say what differs.
+
+A scene module is its parameter dataclass plus the hooks of a
+:class:`LubricatedScene`:
+
+``scales(p) -> Scales``
+    The Hertz sizes of the contact: half-width or radius ``a``, peak pressure,
+    nominal area, Hertz approach, the symmetry factor of a half model, and the
+    scalars the scene reports about them (``hertz_half_width``, ...).
+``mesh(p, scales, comm) -> TaggedMesh``
+    The mesh, with the groups ``contact`` and ``load`` (and ``symmetry`` for a
+    half model: the film gets no flux across it).
+``problem(p, mesh, scales, law, film, control) -> SolidContactProblem``
+    The body, counter-surface, boundary conditions, Newton options and step
+    limits; ``film`` is None for the dry problem.  The template builds the
+    contact law (from ``p.contact``), the film (from ``p.film``, the Hertz
+    scales and the roughness) and the control (:class:`~dolfinx_seal.solid.body.ForceControl`: ``p.load``
+    over the symmetry factor; ``PositionControl``: given) and passes them in.
+``start(problem, p, scales) -> solver figures``
+    The first converged coupled state at ``p.film.speed`` (each scene has its
+    own path there: boundary lubrication for the cylinder, full film for the ball).
+``write_point(out, problem, p)``
+    The per-point film profile or map.
+``write_dry(out, problem, p, scales) -> extra results``
+    The dry pressure profile (and any scalar only this scene reports).
+``start_speed(p) -> speed`` (optional)
+    Where the partitioned baseline starts (``p.solver = "partitioned"``).
+
+What the template does with them, the same way for every scene: the parameters
+must have ``load``, ``h_contact``, ``material``, ``roughness``, ``contact``,
+``lubricated``, ``film``, ``sweep_order`` and ``stepping``; :meth:`run` picks the
+lubricated or the dry point; the lubricated point reports
+:func:`~dolfinx_seal.coupled.results.lubricated_results` with the Hertz and
+law scalars and writes ``fields.xdmf``; the dry point starts from the Hertz
+pressure (:func:`~dolfinx_seal.scenes.common.solve_dry`) and reports
+:func:`dry_results`; the sweep walks ``film.speed`` with continuation.
+
+The law and the film are built here, not in the ``problem`` hook, because
+they are the same for every client (the law from ``p.contact`` at the Hertz
+approach; the film scaled by the Hertz pressure and size, ``h_rms`` and the
+contact element, with the roughness spectrum for the Persson flow factor); the
+dry profile is a hook because the cylinder plots every contact node and the
+ball the x axis only.  Why a dataclass of functions and not a base class: a scene then reads as
+module-level functions with plain signatures (tests and benchmarks call
+``build_lubricated`` / ``start_lubricated`` of a scene module, a benchmark may
+patch the module's ``create_mesh``), and the template's own steps stay in one
+place, not spread over ``super()`` calls.  The lubricated lip seal
+(:mod:`dolfinx_seal.scenes.lip`) is not a client yet: its ``mesh`` step is the
+dry installation and its scales come from the installed contact, its results
+(leakage, torque) replace the Stribeck ones and it sweeps the oil pressure too;
+docs/adding-a-scene.md says what the template would need for it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import ufl
+
+from dolfinx_seal.contact.hertz import separation_of
+from dolfinx_seal.coupled.continuation import order_speeds, speed_sweep
+from dolfinx_seal.coupled.results import lubricated_results, write_fields
+from dolfinx_seal.coupled.sweep import plot_sweep
+from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
+from dolfinx_seal.meshing import TaggedMesh
+from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.params import set_parameter
+from dolfinx_seal.scenes import PointCallback, Scene
+from dolfinx_seal.scenes.common import solve_dry, write_profile
+from dolfinx_seal.solid.body import ForceControl, PositionControl
+from dolfinx_seal.solid.problem import SolidContactProblem
+from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.surface import tractions
+
+Results = dict[str, Any]
+
+
+#: How the counter-surface is held (a load, or a position).
+Control = ForceControl | PositionControl
+
+
+@dataclass(frozen=True)
+class Scales:
+    """The Hertz sizes of a contact (SI).
+
+    Attributes:
+        length: Hertz half-width (line contact) or radius (point contact) a [m].
+        pressure: Hertz peak pressure p_H [Pa].
+        nominal_area: Nominal contact area: ``2 a`` per unit length [m] or
+            ``pi a^2`` [m^2] (for ``contact_area_fraction``).
+        approach: Hertz approach ``a^2 / R`` [m] (the ``stiff`` law's decay length).
+        line: Line contact (the pressure depends on x only) or point contact.
+        symmetry_factor: The model carries ``load / symmetry_factor`` (2: a half model).
+        report: The scalars the scene reports about these sizes (results keys).
+    """
+
+    length: float
+    pressure: float
+    nominal_area: float
+    approach: float
+    line: bool
+    symmetry_factor: float = 1.0
+    report: Mapping[str, float] = field(default_factory=dict)
+
+    def hertz_pressure(self, X: Any) -> Any:
+        """The Hertz pressure [Pa] as UFL on the reference coordinates ``X``."""
+        a, p = self.length, self.pressure
+        if self.line:
+            return p * ufl.sqrt(ufl.max_value(1.0 - (X[0] / a) ** 2, 0.0))
+        return p * ufl.sqrt(ufl.max_value(1.0 - (X[0] ** 2 + X[1] ** 2) / a**2, 0.0))
+
+    def hertz_profile(self, x: np.ndarray) -> np.ndarray:
+        """The Hertz pressure [Pa] along the sliding axis at ``x`` [m]."""
+        return self.pressure * (1.0 - (x / self.length) ** 2).clip(min=0.0) ** 0.5
+
+    def peak_gap(self, law: Any, h_rms: float) -> float:
+        """The separation [m] of ``law`` at the Hertz peak (``h_rms`` without a law)."""
+        return separation_of(law, self.pressure) if law is not None else h_rms
+
+
+def film_snes(film: FilmParams, **options: Any) -> SNESOptions:
+    """Newton options of a coupled film problem: the VI type of the cavitation model
+    (semismooth for JFO's complementarity, reduced-space for ``p >= 0``)."""
+    snes_type = "vinewtonssls" if film.cavitation == "jfo" else "vinewtonrsls"
+    return SNESOptions(max_it=60, dtol=1e12, rtol=1e-11, snes_type=snes_type, **options)
+
+
+def half_decades(start: float, target: float) -> list[float]:
+    """Speeds [m/s] from ``min(start, target)`` up to ``target`` in steps of half a decade."""
+    speeds = [min(target, start)]
+    while speeds[-1] < target * (1 - 1e-12):
+        speeds.append(min(target, speeds[-1] * 10**0.5))
+    return speeds
+
+
+@dataclass(frozen=True, repr=False)
+class LubricatedScene:
+    """A lubricated-contact scene: its name and parameters, and the hooks of the
+    module docstring."""
+
+    name: str
+    summary: str
+    parameters: type
+    scales: Callable[[Any], Scales]
+    mesh: Callable[[Any, Scales, Any], TaggedMesh]
+    problem: Callable[..., SolidContactProblem]
+    start: Callable[[SolidContactProblem, Any, Scales], Results]
+    write_point: Callable[[Path, SolidContactProblem, Any], None]
+    write_dry: Callable[[Path, SolidContactProblem, Any, Scales], Results]
+    start_speed: Callable[[Any], float] | None = None
+
+    def __repr__(self) -> str:
+        return f"LubricatedScene({self.name!r})"
+
+    @property
+    def scene(self) -> Scene:
+        """The :class:`~dolfinx_seal.scenes.Scene` of the registry."""
+        return Scene(name=self.name, summary=self.summary, parameters=self.parameters,
+                     run=self.run, sweep=self.sweep, plot_sweep=plot_sweep)  # fmt: skip
+
+    # ------------------------------------------------------------ building
+    def _law(self, p: Any, s: Scales) -> tuple[Any, Results]:
+        return p.contact.build(p.roughness, p.material.E_star, approach=s.approach)
+
+    def _info(self, s: Scales, law: Any, law_info: Results) -> Results:
+        return {**s.report, "contact_law": law.name if law is not None else "none", **law_info}
+
+    def film(self, p: Any, tm: TaggedMesh, s: Scales, law: Any) -> SurfaceFilm:
+        """The film on the contact group, scaled by the Hertz contact; a ``symmetry``
+        group of the mesh is a no-flux edge."""
+        h_rms = p.roughness.h_rms
+        sym = (tm.tag("symmetry"),) if "symmetry" in tm.info["facet_groups"] else ()
+        return SurfaceFilm(
+            p.film, FilmScales(pressure=s.pressure, length=s.length, gap=h_rms, element=p.h_contact),
+            h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan) if law is not None else math.nan,
+            e_star=p.material.E_star, no_flux_tags=sym,
+            psd=p.roughness.build() if p.film.flow_factor == "persson" else None,
+        )  # fmt: skip
+
+    def build_lubricated(
+        self,
+        p: Any,
+        comm: Any = None,
+        position: float | None = None,
+        position0: float | None = None,
+    ) -> tuple[SolidContactProblem, Results]:
+        """The coupled problem (film on) and the scalars describing it.
+
+        Args:
+            p: Scene parameters.
+            comm: Communicator (default COMM_WORLD).
+            position: None: force control (the counter-surface's position is an
+                unknown); otherwise its final position [m] (position control, e.g.
+                to check a parallel solution on one rank).
+            position0: Start of the position ramp (default ``position``).
+        """
+        s = self.scales(p)
+        law, law_info = self._law(p, s)
+        tm = self.mesh(p, s, comm or COMM_WORLD)
+        if position is None:
+            control: Control = ForceControl(p.load / s.symmetry_factor)
+        else:
+            control = PositionControl(position, position if position0 is None else position0)
+        prob = self.problem(p, tm, s, law, self.film(p, tm, s, law), control)
+        return prob, self._info(s, law, law_info)
+
+    def build_dry(self, p: Any, comm: Any = None) -> tuple[SolidContactProblem, Results]:
+        """The dry problem (no film unknowns, force control) and the scalars describing it."""
+        s = self.scales(p)
+        law, law_info = self._law(p, s)
+        tm = self.mesh(p, s, comm or COMM_WORLD)
+        prob = self.problem(p, tm, s, law, None, ForceControl(p.load / s.symmetry_factor))
+        return prob, self._info(s, law, law_info)
+
+    def start_lubricated(self, prob: SolidContactProblem, p: Any) -> Results:
+        """The scene's ``start`` hook: first converged state at ``p.film.speed``."""
+        return self.start(prob, p, self.scales(p))
+
+    def partitioned_start(self, prob: SolidContactProblem, p: Any, s: Scales) -> Results:
+        """The seeds' partitioned scheme from the Hertz-deformed shape, half a decade
+        per step from the scene's start speed (:func:`~dolfinx_seal.coupled.partitioned.partitioned_start`)."""
+        from dolfinx_seal.coupled.partitioned import partitioned_start
+
+        if self.start_speed is None:
+            raise ParameterError(f"solver = 'partitioned': scene {self.name!r} has no start speed")
+        guess = s.hertz_pressure(prob.X)
+        gap = s.peak_gap(prob.law, p.roughness.h_rms)
+        speeds = half_decades(self.start_speed(p), p.film.speed)
+        return partitioned_start(prob, guess, gap, speeds, p.relaxation)
+
+    # ------------------------------------------------------------ points
+    def run(self, p: Any, out: Path) -> Results:
+        """Solve one point (lubricated or dry); write its files; return the results."""
+        return self.run_lubricated(p, out) if p.lubricated else self.run_dry(p, out)
+
+    def run_lubricated(self, p: Any, out: Path) -> Results:
+        """One lubricated point at ``film.speed``: results, the scene's profile or map,
+        ``fields.xdmf``."""
+        t0 = time.perf_counter()
+        s = self.scales(p)
+        prob, info = self.build_lubricated(p)
+        try:
+            if getattr(p, "solver", "monolithic") == "partitioned":
+                solve_info = self.partitioned_start(prob, p, s)
+            else:
+                solve_info = self.start(prob, p, s)
+            res = lubricated_results(prob, symmetry_factor=s.symmetry_factor,
+                                     nominal_area=s.nominal_area)  # fmt: skip
+            res.update(info)
+            res.update(solve_info)
+            res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=COMM_WORLD.size,
+                       wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+            self.write_point(out, prob, p)
+            write_fields(out, prob)
+        finally:
+            prob.destroy()
+        return res
+
+    def run_dry(self, p: Any, out: Path) -> Results:
+        """The dry point: Hertz warm start, then load stepping if needed
+        (:func:`~dolfinx_seal.scenes.common.solve_dry`); the scene's pressure profile."""
+        t0 = time.perf_counter()
+        s = self.scales(p)
+        prob, info = self.build_dry(p)
+        try:
+            solve_info = solve_dry(prob, s.hertz_pressure(prob.X), s.pressure)
+            res = dry_results(prob, prob.target, line=s.line, symmetry_factor=s.symmetry_factor)
+            res.update(solve_info)
+            res.update(info)
+            res.update(dofs=prob.dofs, ranks=COMM_WORLD.size,
+                       wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+            res.update(self.write_dry(out, prob, p, s))
+            write_fields(out, prob)
+        finally:
+            prob.destroy()
+        return res
+
+    # ------------------------------------------------------------ sweep
+    def sweep(
+        self, p: Any, out: Path, name: str, values: list[float], on_point: PointCallback
+    ) -> list[Results]:
+        """Stribeck sweep over ``film.speed`` (``--over speed`` or ``film.speed``).
+
+        Start at the first speed of the list ordered by ``p.sweep_order``, walk
+        the others with :func:`~dolfinx_seal.coupled.continuation.speed_sweep`
+        (options ``p.stepping``), hand each converged point to ``on_point`` at once
+        (``sweep.csv``) and write its profile into ``speed_<U>/``; failed targets
+        go to ``sweep_failures.csv`` and the walk goes on from the last good point.
+        Returns the rows of the converged points.  A failure the continuation
+        cannot absorb (the start) raises :class:`SolverError` with ``partial`` = the
+        finished rows (``name`` added).
+        """
+        if name not in ("speed", "film.speed"):
+            raise ParameterError(f"lubricated sweeps run over film.speed (got --over {name!r})")
+        if not p.lubricated:
+            raise ParameterError("lubricated = false: a speed sweep needs the film")
+        speeds = order_speeds(values, p.sweep_order)
+        p0 = set_parameter(p, "film.speed", speeds[0])
+        s = self.scales(p0)
+        prob, _ = self.build_lubricated(p0)
+        rows: list[Results] = []
+
+        def results() -> Results:
+            r = lubricated_results(prob, symmetry_factor=s.symmetry_factor,
+                                   nominal_area=s.nominal_area)  # fmt: skip
+            r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
+            return r
+
+        done: list[float] = []  # the speed of each row
+
+        def point(v: float, r: Results) -> None:
+            rows.append(r)
+            done.append(v)
+            on_point(v, r)
+            self.write_point(out / f"speed_{v:.3e}", prob, set_parameter(p, "film.speed", v))
+
+        t0 = time.perf_counter()
+        try:
+            start = self.start(prob, p0, s)
+            r0 = results()
+            r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
+                      film_presolve_iterations=start.get("film_presolve_iterations", 0),
+                      wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+            point(speeds[0], r0)
+            recs = speed_sweep(prob, speeds[1:], point, results, p.stepping)
+        except SolverError as e:  # the sweep cannot go on: hand back the finished rows
+            if e.partial is None:
+                e.partial = [{name: v, **r} for v, r in zip(done, rows, strict=True)]
+            raise
+        finally:
+            prob.destroy()
+        failed = [r for r in recs if not r.converged]
+        if failed and COMM_WORLD.rank == 0:
+            with (out / "sweep_failures.csv").open("w") as fh:
+                fh.write("speed,error\n")
+                for r in failed:
+                    fh.write(f'{r.speed!r},"{r.error}"\n')
+        return rows
+
+
+def write_dry_profile(
+    out: Path, s: Scales, title: str, x: np.ndarray, p_contact: np.ndarray, **columns: np.ndarray
+) -> None:
+    """``pressure.csv`` (``x_m``, ``p_contact_Pa``, ``columns``, ``p_hertz_Pa``) and
+    ``pressure.png``: the dry contact pressure [Pa] along the sliding axis ``x`` [m]
+    against Hertz."""
+    hz = s.hertz_profile(x)
+    write_profile(
+        out, "pressure", {"x_m": x, "p_contact_Pa": p_contact, **columns, "p_hertz_Pa": hz},
+        title=title, xlabel="x [mm]", ylabel="contact pressure [MPa]",
+        curves={"FEM": (x * 1e3, p_contact / 1e6), "Hertz": (x * 1e3, hz / 1e6)},
+    )  # fmt: skip
+
+
+def dry_results(
+    prob: SolidContactProblem, target: float, line: bool, symmetry_factor: float = 1.0
+) -> Results:
+    """Load, moment-based contact size, peak pressure and load balance of a dry solve.
+
+    The size is exact for a Hertz distribution: the half-width ``a = 2 <x^2>^(1/2)``
+    (line) or the radius ``a = (5 <r^2> / 2)^(1/2)`` (point), moments of the
+    contact force.  ``symmetry_factor`` multiplies integrals over a symmetric half
+    model; ``target`` is the model's load [N/m or N].
+    """
+    fn = -prob.p_cont * ufl.dot(tractions.nanson_normal(prob.F, prob.N3), prob.e_n) * prob.weight
+    M0 = prob.integrate(fn, prob.ds_c)
+    x = prob.x
+    r2 = x[0] ** 2 if line else x[0] ** 2 + x[1] ** 2
+    M2 = prob.integrate(fn * r2, prob.ds_c)
+    _, p = prob.surface_values(prob.p_cont, average=True)
+    load = symmetry_factor * M0
+    out = {
+        "normal_load": load,
+        "load_contact": load,
+        "max_contact_pressure": float(p.max()),
+        "load_balance_error": abs(M0 - target) / target,
+        "counter_position": prob.counter_position(),
+    }
+    if line:
+        out["contact_half_width"] = 2.0 * math.sqrt(M2 / M0)  # Hertz: <x^2> = a^2/4
+    else:
+        out["contact_radius"] = math.sqrt(2.5 * M2 / M0)  # Hertz: <r^2> = 2 a^2 / 5
+    return out
+
+
+__all__ = [
+    "Control",
+    "LubricatedScene",
+    "Scales",
+    "dry_results",
+    "film_snes",
+    "half_decades",
+    "write_dry_profile",
+]
