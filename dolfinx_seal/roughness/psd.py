@@ -254,6 +254,17 @@ class SelfAffinePSD(PowerSpectrum):
         return cls(q0, q1, hurst, c0=(h0 / q0) ** 2 * hurst / (2.0 * math.pi))
 
 
+def read_text(p: Path, name: str, not_text: str) -> str:
+    """The text of file ``p``; unreadable, or not text (``not_text`` says what it must
+    be): a :class:`ParameterError` naming the parameter ``name``."""
+    try:
+        return p.read_text()
+    except OSError as e:
+        raise ParameterError(f"{name} {str(p)!r} cannot be read: {e.strerror or e}", name) from None
+    except UnicodeDecodeError:
+        raise ParameterError(f"{name} {str(p)!r} {not_text}", name) from None
+
+
 def read_psd_table(path: str | Path, *, name: str = "psd_file") -> PowerSpectrum:
     """Read a measured isotropic PSD: two columns ``q`` [1/m] and ``C`` [m^4].
 
@@ -267,14 +278,7 @@ def read_psd_table(path: str | Path, *, name: str = "psd_file") -> PowerSpectrum
         raise ParameterError(f"{name} {str(p)!r} does not exist", name)
     if not p.is_file():
         raise ParameterError(f"{name} {str(p)!r} is not a file", name)
-    try:
-        text = p.read_text()
-    except OSError as e:
-        raise ParameterError(f"{name} {str(p)!r} cannot be read: {e.strerror or e}", name) from None
-    except UnicodeDecodeError:
-        raise ParameterError(
-            f"{name} {str(p)!r} is not a text table of q [1/m] and C [m^4]", name
-        ) from None
+    text = read_text(p, name, "is not a text table of q [1/m] and C [m^4]")
     rows: list[tuple[float, float]] = []
     for n, line in enumerate(text.splitlines(), start=1):
         s = line.split("#", 1)[0].strip()

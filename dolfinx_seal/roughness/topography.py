@@ -65,7 +65,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
-from dolfinx_seal.roughness.psd import PowerSpectrum
+from dolfinx_seal.roughness.psd import PowerSpectrum, read_text
 
 FloatArray = NDArray[np.float64]
 
@@ -150,15 +150,9 @@ class HeightMap:
 
 def _parse_text(p: Path, name: str) -> tuple[FloatArray, float | None]:
     """Rows of numbers of a text height map, and the pixel size of its header (or None)."""
-    try:
-        text = p.read_text()
-    except OSError as e:
-        raise ParameterError(f"{name} {str(p)!r} cannot be read: {e.strerror or e}", name) from None
-    except UnicodeDecodeError:
-        raise ParameterError(
-            f"{name} {str(p)!r} is not a text file; supported without SurfaceTopography: "
-            f"{_supported_formats()}"
-        ) from None
+    text = read_text(
+        p, name, f"is not a text file; supported without SurfaceTopography: {_supported_formats()}"
+    )
     header: float | None = None
     for n, line in enumerate(text.splitlines(), start=1):
         if not line.lstrip().startswith("#") or not re.search(r"pixel[_ ]size", line, re.I):
