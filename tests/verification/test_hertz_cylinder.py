@@ -118,7 +118,7 @@ def test_rough_contact_is_hertz_like_with_broadened_edges(mpi_tmp_path):
         ({"E": -1.0}, "E = -1.0"),
         ({"nu": 0.7}, "nu = 0.7"),
         ({"nu": -1.0}, "nu = -1.0"),
-        ({"nu": 0.5, "formulation": "compressible"}, "needs formulation = 'mixed'"),
+        ({"nu": 0.5, "formulation": "compressible"}, "needs material.formulation = 'mixed'"),
     ],
 )
 def test_bad_material_stops_before_assembly(material, match):
