@@ -121,6 +121,8 @@ def inject(monkeypatch):
 
 
 LOG_RECORD = re.compile(r"^\d{4}-\d\d-\d\d [\d:,]+ (DEBUG|INFO|WARNING|ERROR) dolfinx_seal: ")
+#: a progress line (output.Progress, plain mode): a point, or an indented sub-step
+PROGRESS = re.compile(r"^\s*\[\d+/\d+\] ")
 
 
 @pytest.fixture(autouse=True)
@@ -135,11 +137,11 @@ def _log_to_this_tests_stderr():
 
 
 def _one_line(err: str, prefix: str) -> str:
-    """The CLI's message: the last line of stderr, after log records only."""
+    """The CLI's message: the last line of stderr, after log records and progress lines only."""
     assert "Traceback" not in err
     lines = err.strip().splitlines()
     assert lines and lines[-1].startswith(prefix), err
-    assert all(LOG_RECORD.match(ln) for ln in lines[:-1]), err
+    assert all(LOG_RECORD.match(ln) or PROGRESS.match(ln) for ln in lines[:-1]), err
     return lines[-1][len(prefix) :]
 
 

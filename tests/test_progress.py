@@ -117,10 +117,10 @@ def test_cli_sweep_on_two_ranks_reports_from_rank_0_only(tmp_path):
     (not a terminal here), one result line per point on stdout, nothing twice."""
     n = 4
     cmd = ["mpirun", "-n", "2", sys.executable, "-m", "dolfinx_seal.cli", "sweep", "flat",
-           "--over", "velocity", "--values", f"1e-6:1e-2:{n}:log", "--out", str(tmp_path / "s")]  # fmt: skip
+           "--over", "film.speed", "--values", f"1e-6:1e-2:{n}:log", "--out", str(tmp_path / "s")]  # fmt: skip
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
-    progress = [ln for ln in r.stderr.splitlines() if re.match(r"\[\d+/\d+\] velocity = ", ln)]
+    progress = [ln for ln in r.stderr.splitlines() if re.match(r"\[\d+/\d+\] film\.speed = ", ln)]
     assert [ln.split("]")[0] for ln in progress] == [f"[{i}/{n}" for i in range(1, n + 1)]
     assert all(re.search(r"about .* left$", ln) for ln in progress[:-1])
     assert progress[-1].endswith("; done")

@@ -274,7 +274,9 @@ def test_a_sweep_into_a_run_folder_is_refused(mpi_tmp_path):
 
 def test_unknown_sweep_parameter_stops_before_writing(mpi_tmp_path):
     out = mpi_tmp_path / "bad"
-    with pytest.raises(ParameterError, match=r"unknown parameter 'film\.speed'"):
+    with pytest.raises(
+        ParameterError, match=r"unknown parameter 'film'; the names allowed are: .*speed"
+    ):
         scenes.sweep_scene("rubber-friction", rf(), out, "film.speed", [1.0])  # dry: no film
     assert not out.exists()
 
