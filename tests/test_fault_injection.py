@@ -205,7 +205,7 @@ def test_a_sweep_that_cannot_go_on_hands_back_its_finished_points(mpi_tmp_path, 
     third point raises) ends the scene's sweep with a SolverError whose ``partial``
     holds the rows already handed out; ``sweep_scene`` keeps them in ``sweep.csv``
     and records the failure in ``results.json``."""
-    from dolfinx_seal.coupled import sweep as coupled_sweep
+    from dolfinx_seal.scenes import lubricated as coupled_sweep
 
     real = coupled_sweep.lubricated_results
     calls = [0]
