@@ -20,7 +20,9 @@ Sub-commands:
 failure (``SolverError``; a sweep that did not finish every point, whose finished
 points are in ``sweep.csv``), each with one line on stderr and no traceback.  They refuse an ``--out``
 folder holding another scene's or other parameters' results (the same run again
-overwrites); ``--force`` writes anyway.  Unknown arguments
+overwrites); ``--force`` writes anyway.  ``sweep --resume`` goes on with the sweep
+in ``--out`` (a killed or failed one, same scene, parameters and values): its rows
+are kept and the points not finished are solved.  Unknown arguments
 starting with ``-`` that follow ``--petsc`` are passed to PETSc's options
 database (e.g. ``--petsc -snes_monitor``).
 """
@@ -104,17 +106,19 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     out = args.out or f"results/{args.scene}-sweep"
     values = _scenes.parse_values(args.values)
     unit = field_unit(p, args.over)
-    done = [0]
+    if args.resume and args.force:
+        raise ParameterError("--resume and --force: resume the sweep in --out, or overwrite it")
     progress = Progress(len(values), args.over, unit, verbose=args.verbose)
 
-    def echo(row: dict) -> None:
-        done[0] += 1
-        progress.write(f"[{done[0]}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
+    def echo(row: dict) -> None:  # before progress.point counts the row
+        n = progress.done + 1
+        progress.write(f"[{n}/{len(values)}] {sweep_point_line(row, args.over, unit)}")
 
     with progress, on_sweep_row(Path(out) / "sweep.csv", echo):
         rows = _scenes.sweep_scene(
-            args.scene, p, out, args.over, values, force=args.force, progress=progress
-        )
+            args.scene, p, out, args.over, values, force=args.force, progress=progress,
+            resume=args.resume,
+        )  # fmt: skip
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
     if len(rows) == len(values):
         return 0
@@ -230,6 +234,11 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument(
             "--values", required=True,
             help="comma-separated values, or start:stop:n[:log]",
+        )  # fmt: skip
+        sp.add_argument(
+            "--resume", action="store_true",
+            help="go on with the killed or failed sweep in --out (same scene, parameters and "
+            "values): keep its rows, solve the points not finished",
         )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
 

@@ -372,13 +372,18 @@ class SweepWriter:
     later failure or a kill and the file never ends in a part of a row.
     """
 
-    def __init__(self, out_dir: str | Path, name: str = "sweep.csv", comm: Any = None) -> None:
+    def __init__(
+        self, out_dir: str | Path, name: str = "sweep.csv", comm: Any = None, resume: bool = False
+    ) -> None:
         self.comm = comm or COMM_WORLD
         self.path = Path(out_dir) / name
         self.fields: list[str] | None = None
         if self.comm.rank == 0:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            if self.path.exists():
+            if resume and self.path.is_file():  # go on appending under the header there
+                with self.path.open(newline="") as fh:
+                    self.fields = next(csv.reader(fh), None)
+            elif self.path.exists():
                 self.path.unlink()
 
     def append(self, row: Mapping[str, Any]) -> None:
@@ -407,6 +412,37 @@ def _fmt(v: Any) -> Any:
     if isinstance(v, float):
         return repr(v)
     return v
+
+
+def repair_csv(path: str | Path) -> int:
+    """Cut a trailing part of a row (a kill in the middle of a write) from a CSV
+    file; returns the number of bytes cut (0 for a whole file)."""
+    path = Path(path)
+    data = path.read_bytes()
+    if not data or data.endswith(b"\n"):
+        return 0
+    keep = data.rfind(b"\n") + 1
+    with path.open("r+b") as fh:
+        fh.truncate(keep)
+        fh.flush()
+        os.fsync(fh.fileno())
+    return len(data) - keep
+
+
+def parse_cell(text: str) -> Any:
+    """A ``sweep.csv`` cell as the value written (float, int, bool, str; ``None`` if empty)."""
+    if text == "":
+        return None
+    if text in ("True", "False"):
+        return text == "True"
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def read_csv(path: str | Path) -> list[dict[str, str]]:
@@ -525,6 +561,59 @@ def check_out_dir(
         f"{conflict}. Refusing to mix results: choose another output folder "
         f"(--out DIR, or out_dir in Python), or overwrite with --force (force=True)"
     )
+
+
+def resume_rows(
+    out_dir: str | Path,
+    scene: str,
+    parameters: Mapping[str, Any],
+    over: str,
+    values: Sequence[float],
+    comm: Any = None,
+) -> list[dict[str, Any]]:
+    """The finished rows of the sweep in ``out_dir`` that a resumed sweep goes on from.
+
+    The folder must hold this sweep's manifest ``sweep.json`` (scene, the resolved
+    ``parameters``, ``over``, ``values``) and nothing of another run (as
+    :func:`check_out_dir`); else :class:`OutputFolderError` (or
+    :class:`ParameterError` with no manifest) says what differs.  A trailing
+    part of a row left by a kill is cut from ``sweep.csv`` first.  Returns the
+    rows (values parsed with :func:`parse_cell`; none if the sweep had not
+    finished a point).  Collective: read on rank 0, shared with every rank.
+    """
+    comm = comm or COMM_WORLD
+    out = Path(out_dir)
+    new = {"scene": scene, "kind": "sweep", "parameters": _plain(parameters), "over": over,
+           "values": _plain(list(values))}  # fmt: skip
+
+    def read() -> list[dict[str, Any]]:
+        if not (out / SWEEP_MANIFEST).is_file():
+            raise ParameterError(
+                f"--resume: output folder {str(out)!r} holds no sweep to resume (no "
+                f"{SWEEP_MANIFEST}); run the sweep without --resume"
+            )
+        where = f"--resume: output folder {str(out)!r}"
+        data, bad = _read_json(out / SWEEP_MANIFEST)
+        if bad:
+            raise OutputFolderError(f"{where}: {bad}")
+        differs = _differs(_record_of(data or {}, SWEEP_MANIFEST), new)
+        if differs:
+            raise OutputFolderError(
+                f"{where}: its {SWEEP_MANIFEST} holds {differs}; resume with the same "
+                "scene, parameters and values, or start a new sweep in another folder"
+            )
+        conflict = _folder_conflict(out, new)
+        if conflict:
+            raise OutputFolderError(f"--resume: {conflict}")
+        csv_path = out / "sweep.csv"
+        if not csv_path.is_file():
+            return []
+        cut = repair_csv(csv_path)
+        if cut:
+            get_logger().warning("--resume: cut %d bytes of a part row from %s", cut, csv_path)
+        return [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(csv_path)]
+
+    return _on_rank0(comm, read) if comm.size == 1 else comm.bcast(_on_rank0(comm, read), root=0)
 
 
 def _plain(v: Any) -> Any:
@@ -794,6 +883,18 @@ class Progress:
             self._print(
                 f"[{self.done}/{self.total}] {self._value(value)}: {', '.join(parts)}; {tail}"
             )
+
+    def skip(self, n: int) -> None:
+        """``n`` points were finished before (a resumed sweep): counted as done, not timed."""
+        if n <= 0:
+            return
+        self.done += n
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.update(n)
+        else:
+            self._print(f"[{self.done}/{self.total}] resumed: {n} point(s) finished before")
 
     def failed(self, value: Any, error: Any) -> None:
         """A point at ``value`` failed with ``error`` (counted as done)."""

@@ -96,12 +96,13 @@ def speed_sweep(
     on_point: Callable[[float, dict[str, Any]], None],
     results: Callable[[], dict[str, Any]],
     stepping: SpeedStepping | None = None,
+    on_failure: Callable[[SweepRecord], None] | None = None,
 ) -> list[SweepRecord]:
     """Solve ``prob`` (with a film) at each speed of ``speeds`` in the given order.
 
     The problem must hold a converged state at its current speed.  Returns one
     record per target; ``on_point(speed, results())`` is called for each
-    converged target.
+    converged target, ``on_failure(record)`` (if given) for each target not reached.
     """
     st = stepping or SpeedStepping()
     for target in speeds:
@@ -118,7 +119,7 @@ def speed_sweep(
         )
     presolver = FilmPresolver(prob) if st.film_presolve else None
     try:
-        return _walk(prob, speeds, on_point, results, st, presolver, signs.pop())
+        return _walk(prob, speeds, on_point, results, st, presolver, signs.pop(), on_failure)
     finally:
         if presolver is not None:
             presolver.destroy()
@@ -132,6 +133,7 @@ def _walk(
     st: SpeedStepping,
     presolver: FilmPresolver | None,
     sign: float,
+    on_failure: Callable[[SweepRecord], None] | None = None,
 ) -> list[SweepRecord]:
     """The target loop of :func:`speed_sweep`: one adaptive walk in log10 |speed|
     (:class:`~dolfinx_seal.solvers.adaptive.AdaptiveWalk`) carried from target to target."""
@@ -182,6 +184,8 @@ def _walk(
         else:
             log.error("speed %.4g m/s not reached: %s; going on from %.4g m/s",
                       target, rec.error, float(film.speed.value))  # fmt: skip
+            if on_failure is not None:
+                on_failure(rec)
     return records
 
 
@@ -224,7 +228,7 @@ def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], spee
     (la, sa), (lb, sb) = history
     r = (math.log10(abs(speed)) - lb) / (lb - la)
     pred = [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
-    closure = getattr(prob, "max_gap_closure", None)
+    closure = prob.limits.max_gap_closure
     if closure:
         pred = _safeguard_predictor(prob, prob.state(), pred, closure)
     prob.restore(pred)
@@ -240,7 +244,7 @@ def _safeguard_predictor(
     (its gap halves per half decade of speed) and leaves Newton a residual 1e4
     times the converged one."""
     g0 = np.maximum(prob.film.owned_gaps(), 0.0)
-    allowed = np.maximum(closure * g0, getattr(prob, "max_gap_step", None) or 0.0)
+    allowed = np.maximum(closure * g0, prob.limits.max_gap_step or 0.0)
     grown = np.maximum(closure / (1.0 - closure) * g0, allowed)
     comm = prob.mesh.comm
     scale = 1.0

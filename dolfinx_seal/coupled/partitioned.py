@@ -82,8 +82,9 @@ class PartitionedSolver:
         opts = prob.solver.options
         s_opts = dataclasses.replace(opts, snes_type="newtonls")
         limiter = None
-        if prob.max_step or prob.max_gap_step:  # the problem's step limits, this layout
-            limiter = displacement_limiter(prob, prob.max_step, prob.max_gap_step, blocks=w_block)
+        lim = prob.limits
+        if lim.max_step or lim.max_gap_step:  # the problem's step limits, this layout
+            limiter = displacement_limiter(prob, lim.max_step, lim.max_gap_step, blocks=w_block)
         self.solid = NonlinearSolver(
             w_block[0][0], prob.w, prob._dirichlet_bcs, options=s_opts,
             name=f"{prob.name} elasticity", step_limiter=limiter,

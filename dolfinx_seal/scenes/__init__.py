@@ -29,6 +29,7 @@ from dolfinx_seal.output import (
     Progress,
     SweepWriter,
     check_out_dir,
+    resume_rows,
     write_results,
     write_sweep_manifest,
 )
@@ -64,6 +65,9 @@ class Scene:
             finishes and raises :class:`SolverError` (with ``partial`` = finished
             rows) if it cannot go on.  Without it, points are run independently.
         plot_sweep: Optional ``plot_sweep(rows, out_dir, name)`` drawing the sweep PNG.
+        resumable: ``sweep`` takes ``resume=`` (a :class:`Resume`, or None) and
+            goes on from its own checkpoint; otherwise a resumed sweep is handed
+            the values not finished yet, and the scene starts them afresh.
     """
 
     name: str
@@ -72,6 +76,31 @@ class Scene:
     run: Callable[[Any, Path], dict[str, Any]]
     sweep: Callable[..., list[dict[str, Any]]] | None = None
     plot_sweep: Callable[[list[dict[str, Any]], Path, str], None] | None = None
+    resumable: bool = False
+
+
+@dataclass(frozen=True)
+class Resume:
+    """What a resumed sweep finds in its folder (handed to a resumable scene's sweep).
+
+    Attributes:
+        rows: Number of rows in ``sweep.csv``.
+        done: How often each sweep value has a row there.
+    """
+
+    rows: int
+    done: Mapping[float, int]
+
+    def remaining(self, values: Sequence[float]) -> list[float]:
+        """``values`` without the finished ones (each row takes off one occurrence)."""
+        left = dict(self.done)
+        out = []
+        for v in values:
+            if left.get(float(v), 0) > 0:
+                left[float(v)] -= 1
+            else:
+                out.append(v)
+        return out
 
 
 def available() -> list[str]:
@@ -147,6 +176,7 @@ def sweep_scene(
     values: Sequence[float],
     force: bool = False,
     progress: Progress | None = None,
+    resume: bool = False,
 ) -> list[dict[str, Any]]:
     """Sweep scene ``name`` over parameter ``over`` (dotted path allowed).
 
@@ -163,6 +193,14 @@ def sweep_scene(
 
     ``progress``: a :class:`~dolfinx_seal.output.Progress` told of every finished
     or failed point (the scene modules need not know it).
+
+    ``resume``: go on with the sweep of the same scene, parameters and values in
+    ``out_dir`` (a killed or failed one; :func:`~dolfinx_seal.output.resume_rows`
+    refuses anything else): its ``sweep.csv`` rows are kept, the points not
+    finished are solved and appended, and the returned rows are the old and the
+    new ones.  A resumable scene (:attr:`Scene.resumable`) goes on from the
+    checkpoint of its last converged point; the others start each remaining
+    point afresh.
     """
     scene = get(name)
     out = Path(out_dir)
@@ -170,12 +208,25 @@ def sweep_scene(
     for v in values:  # and values outside the parameter's range, before any point is run
         set_parameter(parameters, over, v)
     record = _params.to_dict(parameters)
-    check_out_dir(out, name, record, over=over, values=list(values), force=force)
+    previous: list[dict[str, Any]] = []
+    if resume:
+        previous = resume_rows(out, name, record, over, list(values))
+    else:
+        check_out_dir(out, name, record, over=over, values=list(values), force=force)
     write_sweep_manifest(out, name, record, over, list(values))
-    writer = SweepWriter(out)
-    rows: list[dict[str, Any]] = []
+    writer = SweepWriter(out, resume=resume)
+    done: dict[float, int] = {}
+    for r in previous:
+        done[float(r[over])] = done.get(float(r[over]), 0) + 1
+    state = Resume(rows=len(previous), done=done) if resume else None
+    todo = list(values) if state is None else state.remaining(values)
+    rows: list[dict[str, Any]] = list(previous)
     failed: list[dict[str, Any]] = []
     log = get_logger()
+    if resume:
+        log.info("resuming %s: %d of %d points finished before", out, len(previous), len(values))
+        if progress is not None:
+            progress.skip(len(values) - len(todo))
     t0 = time.perf_counter()
 
     def on_point(value: float, results: Mapping[str, Any]) -> None:
@@ -185,14 +236,17 @@ def sweep_scene(
         if progress is not None:
             progress.point(value, row)
 
-    if scene.sweep is not None:
+    if scene.sweep is not None and (todo or scene.resumable):
         try:
-            scene.sweep(parameters, out, over, list(values), on_point)
+            if scene.resumable:
+                scene.sweep(parameters, out, over, list(values), on_point, resume=state)
+            else:
+                scene.sweep(parameters, out, over, todo, on_point)
         except SolverError as e:
             failed.append({"error": str(e), "where": e.where})
             log.error("sweep stopped: %s", e)
-    else:
-        for v in values:
+    elif scene.sweep is None:
+        for v in todo:
             p = set_parameter(parameters, over, v)
             pt0 = time.perf_counter()
             try:

@@ -65,6 +65,7 @@ from typing import Any
 import numpy as np
 import ufl
 
+from dolfinx_seal import checkpoint
 from dolfinx_seal.contact.hertz import separation_of
 from dolfinx_seal.coupled.continuation import order_speeds, speed_sweep
 from dolfinx_seal.coupled.results import lubricated_results, write_fields
@@ -72,9 +73,10 @@ from dolfinx_seal.coupled.sweep import plot_sweep
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.output import write_text_atomic
 from dolfinx_seal.params import set_parameter
-from dolfinx_seal.scenes import PointCallback, Scene
+from dolfinx_seal.scenes import PointCallback, Resume, Scene
 from dolfinx_seal.scenes.common import solve_dry, write_profile
 from dolfinx_seal.solid.body import ForceControl, PositionControl
 from dolfinx_seal.solid.problem import SolidContactProblem
@@ -165,7 +167,8 @@ class LubricatedScene:
     def scene(self) -> Scene:
         """The :class:`~dolfinx_seal.scenes.Scene` of the registry."""
         return Scene(name=self.name, summary=self.summary, parameters=self.parameters,
-                     run=self.run, sweep=self.sweep, plot_sweep=plot_sweep)  # fmt: skip
+                     run=self.run, sweep=self.sweep, plot_sweep=plot_sweep,
+                     resumable=True)  # fmt: skip
 
     # ------------------------------------------------------------ building
     def _law(self, p: Any, s: Scales) -> tuple[Any, Results]:
@@ -286,7 +289,13 @@ class LubricatedScene:
 
     # ------------------------------------------------------------ sweep
     def sweep(
-        self, p: Any, out: Path, name: str, values: list[float], on_point: PointCallback
+        self,
+        p: Any,
+        out: Path,
+        name: str,
+        values: list[float],
+        on_point: PointCallback,
+        resume: Resume | None = None,
     ) -> list[Results]:
         """Stribeck sweep over ``film.speed`` (``--over speed`` or ``film.speed``).
 
@@ -298,53 +307,156 @@ class LubricatedScene:
         Returns the rows of the converged points.  A failure the continuation
         cannot absorb (the start) raises :class:`SolverError` with ``partial`` = the
         finished rows (``name`` added).
+
+        Each converged state is checkpointed (:mod:`dolfinx_seal.checkpoint`)
+        before its row is written.  With ``resume`` (the rows already in
+        ``sweep.csv``), the walk goes on from the checkpoint of the last
+        converged point; without a usable one (none, other ranks or mesh), the
+        targets not finished are walked afresh from the scene's start.  The
+        checkpoint is removed when the sweep ends.
         """
         if name not in ("speed", "film.speed"):
             raise ParameterError(f"lubricated sweeps run over film.speed (got --over {name!r})")
         if not p.lubricated:
             raise ParameterError("lubricated = false: a speed sweep needs the film")
-        speeds = order_speeds(values, p.sweep_order)
-        p0 = set_parameter(p, "film.speed", speeds[0])
-        s = self.scales(p0)
-        prob, _ = self.build_lubricated(p0)
-        rows: list[Results] = []
-
-        def results() -> Results:
-            r = lubricated_results(prob, symmetry_factor=s.symmetry_factor,
-                                   nominal_area=s.nominal_area)  # fmt: skip
-            r.update(dofs=prob.dofs, ranks=COMM_WORLD.size)
-            return r
-
-        done: list[float] = []  # the speed of each row
-
-        def point(v: float, r: Results) -> None:
-            rows.append(r)
-            done.append(v)
-            on_point(v, r)
-            self.write_point(out / f"speed_{v:.3e}", prob, set_parameter(p, "film.speed", v))
-
-        t0 = time.perf_counter()
+        ordered = order_speeds(values, p.sweep_order)
+        walk = _Walk(self, p, out, ordered, on_point)
         try:
-            start = self.start(prob, p0, s)
-            r0 = results()
-            r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
-                      film_presolve_iterations=start.get("film_presolve_iterations", 0),
-                      wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-            point(speeds[0], r0)
-            recs = speed_sweep(prob, speeds[1:], point, results, p.stepping)
+            if resume is not None and walk.from_checkpoint(resume):
+                walk.go_on()
+            else:
+                todo = ordered if resume is None else resume.remaining(ordered)
+                if todo:
+                    walk.from_start(todo)
         except SolverError as e:  # the sweep cannot go on: hand back the finished rows
             if e.partial is None:
-                e.partial = [{name: v, **r} for v, r in zip(done, rows, strict=True)]
+                e.partial = [{name: v, **r} for v, r in zip(walk.done, walk.rows, strict=True)]
             raise
         finally:
+            walk.close()
+        walk.write_failures()
+        checkpoint.remove(out)
+        return walk.rows
+
+
+class _Walk:
+    """One speed-continuation chain of :meth:`LubricatedScene.sweep`: its problem,
+    rows, failures and checkpoints."""
+
+    def __init__(self, scene: LubricatedScene, p: Any, out: Path, ordered: list[float],
+                 on_point: PointCallback) -> None:  # fmt: skip
+        self.scene, self.p, self.out, self.ordered, self.on_point = scene, p, out, ordered, on_point
+        self.prob: SolidContactProblem | None = None
+        self.s: Scales | None = None
+        self.rows: list[Results] = []
+        self.done: list[float] = []
+        self.failed: list[dict[str, Any]] = []  # {"speed", "error"}
+        self.index = -1  # position in ``ordered`` of the last point handed on
+        self.csv_rows = 0  # rows in sweep.csv (before this run, and written since)
+        self.targets: list[float] = []  # still to walk, in order
+
+    def build(self, speed: float) -> SolidContactProblem:
+        p0 = set_parameter(self.p, "film.speed", speed)
+        self.s = self.scene.scales(p0)
+        self.prob, _ = self.scene.build_lubricated(p0)
+        return self.prob
+
+    def results(self) -> Results:
+        assert self.prob is not None and self.s is not None
+        r = lubricated_results(self.prob, symmetry_factor=self.s.symmetry_factor,
+                               nominal_area=self.s.nominal_area)  # fmt: skip
+        r.update(dofs=self.prob.dofs, ranks=COMM_WORLD.size)
+        return r
+
+    @property
+    def unknowns(self) -> list[Any]:
+        assert self.prob is not None
+        return [b[1] for b in self.prob.blocks]
+
+    def point(self, v: float, r: Results) -> None:
+        """A converged target: checkpoint, then the row, then its profile."""
+        assert self.prob is not None
+        self.index = self.ordered.index(v, self.index + 1)
+        self.csv_rows += 1
+        meta = {"serial": self.csv_rows, "rows": self.csv_rows, "index": self.index,
+                "speed": v, "failed": self.failed}  # fmt: skip
+        checkpoint.save(self.out, self.unknowns, meta)
+        self.rows.append(r)
+        self.done.append(v)
+        self.on_point(v, r)
+        self.scene.write_point(self.out / f"speed_{v:.3e}", self.prob,
+                               set_parameter(self.p, "film.speed", v))  # fmt: skip
+
+    def failure(self, rec: Any) -> None:
+        self.failed.append({"speed": rec.speed, "error": rec.error})
+
+    def from_start(self, todo: list[float]) -> None:
+        """The scene's start at the first target of ``todo``, then the others."""
+        prob = self.build(todo[0])
+        p0 = set_parameter(self.p, "film.speed", todo[0])
+        t0 = time.perf_counter()
+        start = self.scene.start(prob, p0, self.scales)
+        r0 = self.results()
+        r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
+                  film_presolve_iterations=start.get("film_presolve_iterations", 0),
+                  wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
+        self.index = self.ordered.index(todo[0]) - 1
+        self.targets = todo[1:]
+        self.point(todo[0], r0)
+        self.go_on()
+
+    @property
+    def scales(self) -> Scales:
+        assert self.s is not None
+        return self.s
+
+    def from_checkpoint(self, resume: Resume) -> bool:
+        """Restore the last converged state of the run being resumed; False if there
+        is no usable checkpoint (the caller then starts afresh)."""
+        meta = checkpoint.read_meta(self.out)
+        if meta is None:
+            return False
+        idx, rows = int(meta["index"]), int(meta["rows"])
+        if not (0 <= idx < len(self.ordered) and self.ordered[idx] == float(meta["speed"])
+                and resume.rows in (rows, rows - 1)):  # fmt: skip
+            get_logger().warning(
+                "checkpoint not used: it is of point %d at %g m/s with %d rows, sweep.csv has "
+                "%d rows", idx, float(meta["speed"]), rows, resume.rows,
+            )  # fmt: skip
+            return False
+        prob = self.build(self.ordered[idx])
+        if checkpoint.load(self.out, self.unknowns) is None:
             prob.destroy()
-        failed = [r for r in recs if not r.converged]
-        if failed and COMM_WORLD.rank == 0:
-            with (out / "sweep_failures.csv").open("w") as fh:
-                fh.write("speed,error\n")
-                for r in failed:
-                    fh.write(f'{r.speed!r},"{r.error}"\n')
-        return rows
+            self.prob = None
+            return False
+        prob.set_fraction(1.0)
+        prob.film.flow_factor_weight.value = 1.0
+        prob.film.set_speed(self.ordered[idx])
+        self.failed = list(meta.get("failed", []))
+        self.csv_rows = resume.rows
+        self.index = idx - 1 if resume.rows < rows else idx
+        self.targets = self.ordered[self.index + 1 :]
+        get_logger().info("resuming from the checkpoint of %g m/s (point %d of %d)",
+                          self.ordered[idx], idx + 1, len(self.ordered))  # fmt: skip
+        return True
+
+    def go_on(self) -> None:
+        """Walk the remaining targets from the current converged state."""
+        assert self.prob is not None
+        recs = speed_sweep(self.prob, self.targets, self.point, self.results, self.p.stepping,
+                           on_failure=self.failure)  # fmt: skip
+        self.failed += [{"speed": r.speed, "error": r.error} for r in recs
+                        if not r.converged and r.error.startswith("not attempted")]  # fmt: skip
+
+    def close(self) -> None:
+        if self.prob is not None:
+            self.prob.destroy()
+
+    def write_failures(self) -> None:
+        """``sweep_failures.csv``: the targets not reached (this run and the one resumed)."""
+        if self.failed and COMM_WORLD.rank == 0:
+            lines = ["speed,error\n"] + [f'{f["speed"]!r},"{f["error"]}"\n' for f in self.failed]
+            write_text_atomic(self.out / "sweep_failures.csv", "".join(lines))
 
 
 def write_dry_profile(

@@ -156,8 +156,7 @@ class SolidContactProblem:
         self.control, self.target, self.name = control.kind, float(control.target), name
         self.contact_tag = contact_tag
         limits = limits or StepLimits()
-        max_step, max_normal_step = limits.max_step, limits.max_normal_step
-        max_gap_step, max_gap_closure = limits.max_gap_step, limits.max_gap_closure
+        max_step = limits.max_step
         quadrature_degree = body.quadrature_degree
         surface_quadrature_degree = body.surface_quadrature_degree
         position0 = control.position0
@@ -258,8 +257,6 @@ class SolidContactProblem:
             blocks.append((self._force_equation(), self.position, None, None))
         self.blocks = blocks
         self.limits = limits
-        self.max_step, self.max_gap_step = max_step, max_gap_step
-        self.max_normal_step, self.max_gap_closure = max_normal_step, max_gap_closure
         if self.bulk and self.limits.any:
             limiter = self.step_limiter()
         elif not self.bulk and self.control == "force":
