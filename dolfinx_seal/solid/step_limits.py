@@ -91,7 +91,7 @@ def displacement_limiter(
     else:
         dofs = np.arange(n_own)
     dofs = dofs[dofs < n_own]
-    max_normal = prob.max_normal_step
+    max_normal = prob.limits.max_normal_step
     axis = prob.counter.normal_axis
     normal_dofs = np.asarray(Vu.sub(axis).collapse()[1])
     normal_dofs = normal_dofs[normal_dofs < n_own]
