@@ -32,9 +32,14 @@ from pathlib import Path
 from typing import Any
 
 from dolfinx_seal.contact.hertz import hertz_line
-from dolfinx_seal.coupled.continuation import SpeedStepping, boundary_start_speed, start_coupled
+from dolfinx_seal.coupled.continuation import (
+    SpeedStepping,
+    boundary_start_speed,
+    speed_sweep,
+    start_coupled,
+)
 from dolfinx_seal.coupled.results import write_film_profile
-from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
 from dolfinx_seal.params import (
@@ -170,38 +175,91 @@ def problem(p: CylinderParameters, tm: TaggedMesh, s: Scales, law: Any, film: An
     )  # fmt: skip
 
 
+#: Moes' dimensionless load ``M = W U^(-1/2)`` at which a smooth cylinder starts
+#: (:func:`moes_load`).  Below about 1 the contact is in the rigid-isoviscous
+#: regime: the elastic deflection is small against the film, and the undeformed
+#: cylinder at the Martin film thickness is within Newton's reach.
+START_MOES = 1.0
+
+
+def moes_load(p: CylinderParameters, speed: float) -> float:
+    """Moes' dimensionless load of the line contact, ``M = W U^(-1/2)`` with
+    ``W = F / (E' R)``, ``U = eta u_m / (E' R)``, ``E' = 2 E*`` and the mean
+    surface speed ``u_m = |speed| / 2`` (the flat slides, the cylinder is at rest)."""
+    e_r = 2.0 * p.material.E_star * p.radius
+    u = p.film.viscosity * 0.5 * abs(speed) / e_r
+    return (p.load / e_r) / math.sqrt(u)
+
+
 def start_speed(p: CylinderParameters) -> float:
-    """A speed of boundary lubrication [m/s] where the coupled Newton starts
-    (:func:`~dolfinx_seal.coupled.continuation.boundary_start_speed`, p_mean = pi/4 p_H)."""
+    """Where the coupled Newton starts [m/s].
+
+    Rough (a contact law): a speed of boundary lubrication, from the dry Hertz
+    shape (:func:`~dolfinx_seal.coupled.continuation.boundary_start_speed`,
+    p_mean = pi/4 p_H), where the asperities carry nearly all the load.
+    Smooth (``contact.model = "none"``): nothing carries the load at low speed,
+    so the walk starts in full film instead, at the speed where Moes' ``M`` is
+    :data:`START_MOES` (never below ``film.speed``), and comes down.
+    """
+    if p.contact.model == "none":
+        e_r = 2.0 * p.material.E_star * p.radius
+        u_start = (p.load / e_r / START_MOES) ** 2  # M = W U^(-1/2)
+        return max(abs(p.film.speed), 2.0 * u_start * e_r / p.film.viscosity)
     s = scales(p)
     return boundary_start_speed(
         p.roughness.h_rms, p.film.viscosity, s.length, math.pi / 4.0 * s.pressure
     )
 
 
+def _martin_start(prob: SolidContactProblem, p: CylinderParameters, speed: float) -> int:
+    """The film at ``speed`` on the present shape, with the flat at the Martin film
+    thickness of a rigid cylinder ``4.9 eta (U/2) R / F`` (at least ``h_rms``; force
+    control); returns the film solver's Newton steps."""
+    prob.film.set_speed(speed)
+    if prob.control == "force":
+        h0 = 4.9 * p.film.viscosity * 0.5 * max(speed, 1e-12) * p.radius / p.load
+        prob.position.x.array[:] = -max(h0, p.roughness.h_rms)
+    else:
+        prob.set_fraction(1.0)
+    pre = prob.film.make_solver(prob.solver.options, name="cylinder film start")
+    try:
+        return pre.solve(where="cylinder: film at the Martin film thickness").newton_iterations
+    finally:
+        pre.destroy()
+
+
 def start(prob: SolidContactProblem, p: CylinderParameters, s: Scales) -> dict[str, Any]:
     """Bring the coupled problem to its first converged state at ``film.speed``.
 
-    Deformable: :func:`~dolfinx_seal.coupled.continuation.start_coupled` from
-    the Hertz-deformed shape at :func:`start_speed`.  Rigid: the film at the
-    Martin film thickness of the load first, then the coupled solve.
+    Rough and deformable: :func:`~dolfinx_seal.coupled.continuation.start_coupled`
+    from the Hertz-deformed shape at :func:`start_speed` (boundary lubrication),
+    up to ``film.speed``.  Smooth (or rigid): the undeformed cylinder with the film
+    at the Martin film thickness at :func:`start_speed` (rigid-isoviscous for a
+    smooth deformable cylinder, ``film.speed`` for a rigid one), the coupled
+    solve there, and speed continuation down to ``film.speed``.
     """
     target = p.film.speed
-    if prob.bulk:
+    if prob.bulk and prob.law is not None:
         return start_coupled(
             prob, target, start_speed(p), p.stepping, "cylinder",
             pressure_guess=s.hertz_pressure(prob.X), peak_gap=s.peak_gap(prob.law, p.roughness.h_rms),
         )  # fmt: skip
-    if prob.control == "force":
-        h0 = 4.9 * p.film.viscosity * 0.5 * max(target, 1e-12) * p.radius
-        prob.position.x.array[:] = -max(h0 / p.load, p.roughness.h_rms)
-    else:
-        prob.set_fraction(1.0)
-    pre = prob.film.make_solver(prob.solver.options, name="cylinder film start")
-    pre_its = pre.solve(where="cylinder: film at the guessed film thickness").newton_iterations
-    pre.destroy()
-    info = start_coupled(prob, target, target, p.stepping, "cylinder")
+    v0 = math.copysign(start_speed(p), target) if prob.bulk else target
+    pre_its = _martin_start(prob, p, v0)
+    info = start_coupled(prob, v0, v0, p.stepping, "cylinder")
     info["newton_iterations"] += pre_its
+    if v0 != target:
+        recs = speed_sweep(prob, [target], lambda *_: None, dict, p.stepping)
+        if not recs[-1].converged:
+            raise SolverError(
+                f"smooth cylinder: the full-film start at {v0:.3g} m/s (Moes M = "
+                f"{moes_load(p, v0):.3g}) did not come down to film.speed = {target:g} m/s "
+                f"(Moes M = {moes_load(p, target):.3g}): {recs[-1].error}",
+                where="cylinder start", partial={"speed": float(prob.film.speed.value)},
+            )  # fmt: skip
+        info["newton_iterations"] += recs[-1].newton_iterations
+        info["strategy"] = (f"full-film start at {v0:.3g} m/s (M = {START_MOES:g}), speed "
+                            f"continuation down ({recs[-1].steps} steps)")  # fmt: skip
     return info
 
 
