@@ -2,9 +2,11 @@
 # Both provision the DOLFINx environment on first use (scripts/dx).
 DX ?= scripts/dx
 NP ?= 2
+NP3 ?= 3
+XDIST ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-slow lint bench soak env
+.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-slow lint bench soak env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
@@ -12,16 +14,19 @@ demo:  ## the main demo: the lubricated lip seal (installed section, leakage lin
 demo-ball:  ## the former main demo: a short ball Stribeck sweep (writes into results/demo-ball)
 	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo-ball
 
-test: test-dx-paths test-serial test-mpi  ## whole suite, serially then under mpirun -n $(NP)
+test: test-dx-paths test-serial test-mpi test-mpi3  ## whole suite: serially (on $(XDIST) workers), then under mpirun -n $(NP) and -n $(NP3)
 
 test-dx-paths:  ## on the host: scripts/dx sees the caller's cwd, $HOME, /tmp and path arguments
 	bash tests/test_dx_paths.sh
 
-test-serial:
-	$(DX) python3 -m pytest $(PYTEST_FLAGS)
+test-serial:  ## one rank; pytest-xdist spreads the tests over $(XDIST) processes (XDIST=0: none)
+	$(DX) python3 -m pytest $(PYTEST_FLAGS) $(if $(filter-out 0,$(XDIST)),-n $(XDIST))
 
 test-mpi:
 	$(DX) mpirun -n $(NP) python3 -m mpi4py -m pytest $(PYTEST_FLAGS)
+
+test-mpi3:  ## 3 ranks on this 2-core machine: oversubscribed on purpose (odd partitions, a rank with little work)
+	$(DX) mpirun -n $(NP3) --map-by :OVERSUBSCRIBE python3 -m mpi4py -m pytest $(PYTEST_FLAGS)
 
 test-slow:  ## heavier verification cases (not in CI's default suite)
 	$(DX) python3 -m pytest $(PYTEST_FLAGS) -m slow

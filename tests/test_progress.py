@@ -94,8 +94,13 @@ def test_other_ranks_print_nothing():
     assert p.done == 2
 
 
-def test_bar_on_a_terminal():
-    """``tty``: a tqdm bar redrawn in place (carriage returns), with the time left."""
+def test_bar_on_a_terminal(monkeypatch):
+    """``tty``: a tqdm bar redrawn in place (carriage returns), with the time left.
+
+    tqdm sizes a bar on a stream without a terminal from ``COLUMNS`` and ``LINES``;
+    an 80-column default (a pytest-xdist worker) cut the time left off the line."""
+    monkeypatch.setenv("COLUMNS", "200")
+    monkeypatch.setenv("LINES", "50")
     stream = io.StringIO()
     with Progress(3, "velocity", "m/s", stream=stream, tty=True, comm=_Rank(0)) as p:
         assert p._bar is not None

@@ -27,6 +27,10 @@ A scene module is its parameter dataclass plus the hooks of a
     The dry pressure profile (and any scalar only this scene reports).
 ``start_speed(p) -> speed`` (optional)
     Where the partitioned baseline starts (``p.solver = "partitioned"``).
+``film_gap(p) -> gap`` (optional)
+    The gap scale [m] of the film's rows and unknowns (default ``h_rms``): the
+    film thickness the scene expects at its start, where that is far above
+    ``h_rms`` (a smooth contact in full film).
 
 What the template does with them, the same way for every scene: the parameters
 must have ``load``, ``h_contact``, ``material``, ``roughness``, ``contact``,
@@ -159,6 +163,7 @@ class LubricatedScene:
     write_point: Callable[[Path, SolidContactProblem, Any], None]
     write_dry: Callable[[Path, SolidContactProblem, Any, Scales], Results]
     start_speed: Callable[[Any], float] | None = None
+    film_gap: Callable[[Any], float] | None = None
 
     def __repr__(self) -> str:
         return f"LubricatedScene({self.name!r})"
@@ -181,9 +186,10 @@ class LubricatedScene:
         """The film on the contact group, scaled by the Hertz contact; a ``symmetry``
         group of the mesh is a no-flux edge."""
         h_rms = p.roughness.h_rms
+        gap = self.film_gap(p) if self.film_gap is not None else h_rms
         sym = (tm.tag("symmetry"),) if "symmetry" in tm.info["facet_groups"] else ()
         return SurfaceFilm(
-            p.film, FilmScales(pressure=s.pressure, length=s.length, gap=h_rms, element=p.h_contact),
+            p.film, FilmScales(pressure=s.pressure, length=s.length, gap=gap, element=p.h_contact),
             h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan) if law is not None else math.nan,
             e_star=p.material.E_star, no_flux_tags=sym,
             psd=p.roughness.build() if p.film.flow_factor == "persson" else None,
