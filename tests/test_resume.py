@@ -326,3 +326,14 @@ def test_resume_and_force_together_are_refused(capsys, mpi_tmp_path):
                "--out", str(mpi_tmp_path / "s"), "--resume", "--force"])  # fmt: skip
     assert rc == 2
     assert "--resume and --force" in capsys.readouterr().err
+
+
+def test_a_value_swept_twice_is_matched_row_by_row():
+    """An ``up-down`` walk lists speeds twice: each row takes off the first
+    occurrence of its value, so the points left are the later ones, in order."""
+    values = [0.1, 0.3, 1.0, 0.3, 0.1]
+    state = scenes.Resume(rows=3, done={0.1: 1, 0.3: 1, 1.0: 1})
+    assert state.positions(values) == [3, 4]
+    assert state.remaining(values) == [0.3, 0.1]
+    assert scenes.Resume(rows=0, done={}).positions(values) == [0, 1, 2, 3, 4]
+    assert scenes.Resume(rows=5, done={0.1: 2, 0.3: 2, 1.0: 1}).remaining(values) == []

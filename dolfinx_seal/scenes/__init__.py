@@ -91,16 +91,21 @@ class Resume:
     rows: int
     done: Mapping[float, int]
 
-    def remaining(self, values: Sequence[float]) -> list[float]:
-        """``values`` without the finished ones (each row takes off one occurrence)."""
+    def positions(self, values: Sequence[float]) -> list[int]:
+        """Positions in ``values`` of the points not finished (each row takes off the
+        first occurrence of its value)."""
         left = dict(self.done)
         out = []
-        for v in values:
+        for i, v in enumerate(values):
             if left.get(float(v), 0) > 0:
                 left[float(v)] -= 1
             else:
-                out.append(v)
+                out.append(i)
         return out
+
+    def remaining(self, values: Sequence[float]) -> list[float]:
+        """``values`` without the finished ones, in their order."""
+        return [values[i] for i in self.positions(values)]
 
 
 def available() -> list[str]:

@@ -331,7 +331,7 @@ class LubricatedScene:
             if resume is not None and walk.from_checkpoint(resume):
                 walk.go_on()
             else:
-                todo = ordered if resume is None else resume.remaining(ordered)
+                todo = list(range(len(ordered))) if resume is None else resume.positions(ordered)
                 if todo:
                     walk.from_start(todo)
         except SolverError as e:  # the sweep cannot go on: hand back the finished rows
@@ -358,8 +358,8 @@ class _Walk:
         self.done: list[float] = []
         self.failed: list[dict[str, Any]] = []  # {"speed", "error"}
         self.index = -1  # position in ``ordered`` of the last point handed on
+        self.pending: list[int] = []  # positions in ``ordered`` still to walk, in order
         self.csv_rows = 0  # rows in sweep.csv (before this run, and written since)
-        self.targets: list[float] = []  # still to walk, in order
 
     def build(self, speed: float) -> SolidContactProblem:
         p0 = set_parameter(self.p, "film.speed", speed)
@@ -382,7 +382,9 @@ class _Walk:
     def point(self, v: float, r: Results) -> None:
         """A converged target: checkpoint, then the row, then its profile."""
         assert self.prob is not None
-        self.index = self.ordered.index(v, self.index + 1)
+        while self.ordered[self.pending[0]] != v:  # targets passed over: not reached
+            self.pending.pop(0)
+        self.index = self.pending.pop(0)
         self.csv_rows += 1
         meta = {"serial": self.csv_rows, "rows": self.csv_rows, "index": self.index,
                 "speed": v, "failed": self.failed}  # fmt: skip
@@ -396,19 +398,20 @@ class _Walk:
     def failure(self, rec: Any) -> None:
         self.failed.append({"speed": rec.speed, "error": rec.error})
 
-    def from_start(self, todo: list[float]) -> None:
-        """The scene's start at the first target of ``todo``, then the others."""
-        prob = self.build(todo[0])
-        p0 = set_parameter(self.p, "film.speed", todo[0])
+    def from_start(self, todo: list[int]) -> None:
+        """The scene's start at the first target of ``todo`` (positions in the walk),
+        then the others."""
+        v0 = self.ordered[todo[0]]
+        prob = self.build(v0)
+        p0 = set_parameter(self.p, "film.speed", v0)
         t0 = time.perf_counter()
         start = self.scene.start(prob, p0, self.scales)
         r0 = self.results()
         r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
                   film_presolve_iterations=start.get("film_presolve_iterations", 0),
                   wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
-        self.index = self.ordered.index(todo[0]) - 1
-        self.targets = todo[1:]
-        self.point(todo[0], r0)
+        self.pending = list(todo)
+        self.point(v0, r0)
         self.go_on()
 
     @property
@@ -441,7 +444,7 @@ class _Walk:
         self.failed = list(meta.get("failed", []))
         self.csv_rows = resume.rows
         self.index = idx - 1 if resume.rows < rows else idx
-        self.targets = self.ordered[self.index + 1 :]
+        self.pending = list(range(self.index + 1, len(self.ordered)))
         get_logger().info("resuming from the checkpoint of %g m/s (point %d of %d)",
                           self.ordered[idx], idx + 1, len(self.ordered))  # fmt: skip
         return True
@@ -449,7 +452,8 @@ class _Walk:
     def go_on(self) -> None:
         """Walk the remaining targets from the current converged state."""
         assert self.prob is not None
-        recs = speed_sweep(self.prob, self.targets, self.point, self.results, self.p.stepping,
+        targets = [self.ordered[i] for i in self.pending]
+        recs = speed_sweep(self.prob, targets, self.point, self.results, self.p.stepping,
                            on_failure=self.failure)  # fmt: skip
         self.failed += [{"speed": r.speed, "error": r.error} for r in recs
                         if not r.converged and r.error.startswith("not attempted")]  # fmt: skip
