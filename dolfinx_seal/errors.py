@@ -40,8 +40,8 @@ class SolveHistory:
         linear_iterations: Krylov iterations of each Newton step.
         reason: PETSc converged/diverged reason (integer, PETSc.SNES.ConvergedReason).
         reason_name: Its name, e.g. ``"CONVERGED_FNORM_RELATIVE"``.
-        complementarity: max |min(x - lower, F)| (and for the upper bound) at the end,
-            ``nan`` for problems without bounds.
+        complementarity: 2-norm of the natural residual ``x - clip(x - F(x), lower,
+            upper)`` at the end, ``nan`` for problems without bounds.
     """
 
     residual_norms: list[float] = field(default_factory=list)

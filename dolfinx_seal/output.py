@@ -80,6 +80,7 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "wall_time_s": ("s", "wall time", True),
     "load_balance_error": ("-", "relative error of the load balance", False),
     "mass_balance_error": ("-", "relative error of the film's mass balance", False),
+    "complementarity_error": ("-", "VI natural residual of the last solve, relative to |F(0)|", False),
     "converged": ("", "whether the solve converged", False),
 }  # fmt: skip
 
@@ -412,6 +413,15 @@ def _fmt(v: Any) -> Any:
     if isinstance(v, float):
         return repr(v)
     return v
+
+
+def write_sweep_failures(out_dir: str | Path, failed: Sequence[Mapping[str, Any]]) -> None:
+    """``sweep_failures.csv`` (``speed,error``; rank 0, atomic): the continuation
+    targets a sweep did not reach and why (``failed``: ``{"speed", "error"}``); no
+    file when there are none."""
+    if failed and COMM_WORLD.rank == 0:
+        lines = ["speed,error\n"] + [_csv_line([f["speed"], f["error"]]) for f in failed]
+        write_text_atomic(Path(out_dir) / "sweep_failures.csv", "".join(lines))
 
 
 def repair_csv(path: str | Path) -> int:

@@ -25,7 +25,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.output import progress_step
-from dolfinx_seal.params import check_int_range, check_positive, check_range
+from dolfinx_seal.params import check_int_range, check_nonnegative, check_positive, check_range
 from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
 
 
@@ -50,6 +50,9 @@ class SpeedStepping:
             front that must move n nodes costs n coupled steps, and n grows as the
             mesh is refined; the film-only steps that move it here cost about a
             twentieth of a coupled step.
+        time_budget: Wall time of one sweep's walk [s] (0: none); once spent, the
+            targets not yet walked to are recorded as not attempted (checked before
+            each target, so the walk to the target under way finishes first).
     """
 
     max_decades: float = 0.5
@@ -59,6 +62,7 @@ class SpeedStepping:
     predictor: bool = True
     max_failures: int = 0
     film_presolve: bool = True
+    time_budget: float = 0.0
 
     def __post_init__(self) -> None:
         check_range("max_decades", self.max_decades, 0.0, 3.0, lo_open=True)
@@ -66,6 +70,7 @@ class SpeedStepping:
         check_range("grow", self.grow, 1.0, 4.0)
         check_int_range("easy", self.easy, 1)
         check_int_range("max_failures", self.max_failures, 0)
+        check_nonnegative("time_budget", self.time_budget, unit="s")
 
     def control(self) -> StepControl:
         """The step control of the walk in log10 |speed| (a failed target resets the
@@ -151,9 +156,14 @@ def _walk(
         on_accept=lambda v, _its: progress_step(f"{prob.name} speed [m/s]", v),
     )  # fmt: skip
     failures = 0
+    t_walk = time.perf_counter()
     for i, target in enumerate(speeds):
+        note = ""
         if st.max_failures and failures >= st.max_failures:
             note = f"not attempted: stopped after {failures} consecutive failed target(s)"
+        elif st.time_budget and prob.mesh.comm.bcast(time.perf_counter() - t_walk > st.time_budget):
+            note = f"not attempted: the time budget of {st.time_budget:g} s was spent"
+        if note:
             records += [
                 SweepRecord(speed=float(t), converged=False, error=note) for t in speeds[i:]
             ]

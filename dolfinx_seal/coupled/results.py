@@ -93,7 +93,21 @@ def lubricated_results(
             real = sf * prob.integrate(A * film.da, ds)
             out["real_contact_area"] = real
             out["contact_area_fraction"] = real / nominal_area
+    out.update(complementarity_of(prob))
     return out
+
+
+def complementarity_of(prob: Any) -> dict[str, float]:
+    """``{"complementarity_error": c}``: the 2-norm of the VI's natural residual
+    ``x - clip(x - F(x), lower, upper)`` that the last solve of ``prob``'s coupled
+    solver checked, relative to the residual scale ``|F(0)|`` of its tolerances
+    (collective); empty when that solve had no bounds (or there was none)."""
+    solver = getattr(prob, "solver", None)
+    c = getattr(getattr(solver, "history", None), "complementarity", math.nan)
+    if not math.isfinite(c):
+        return {}
+    scale = solver.residual_scale()
+    return {"complementarity_error": float(c) / scale if scale > 0 else float(c)}
 
 
 def _cavitated(model: str, p: Any, theta: Any, ufl_form: bool = False) -> Any:
@@ -367,6 +381,7 @@ def write_fields(
 
 __all__ = [
     "cauchy_stress",
+    "complementarity_of",
     "lubricated_results",
     "von_mises",
     "write_fields",

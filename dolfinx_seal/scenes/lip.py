@@ -57,10 +57,11 @@ from typing import Any
 import numpy as np
 
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
-from dolfinx_seal.coupled.results import write_fields
+from dolfinx_seal.coupled.results import complementarity_of, write_fields
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.output import write_sweep_failures
 from dolfinx_seal.params import check_choice, check_positive, check_range
 from dolfinx_seal.scenes import Scene
 from dolfinx_seal.scenes.lip_install import (
@@ -396,6 +397,7 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
         "dofs": prob.dofs,
         "dof_counts": prob.dof_counts(),
         "ranks": COMM_WORLD.size,
+        **complementarity_of(prob),
     }
     if film.has_theta:
         cav = theta < 1.0 - 1e-8
@@ -601,15 +603,17 @@ def sweep(
         finally:
             lub.destroy()
         return rows
+    failed: list[dict[str, Any]] = []  # {"speed", "error"}: targets not reached
     for sign in (1.0, -1.0):
         chain = sorted((v for v in speeds if math.copysign(1.0, v) == sign and v != 0), key=abs)
         if not chain:
             continue
         lub = build(set_parameter(params, "film.speed", chain[0]))
         try:
-            _stroke_chain(lub, params, chain, out, rows, on_point)
+            _stroke_chain(lub, params, chain, out, rows, on_point, failed)
         finally:
             lub.destroy()
+    write_sweep_failures(out, failed)
     strokes = stroke_summary(rows, params.stroke_length)
     if strokes:
         write_strokes(out, strokes)
@@ -618,10 +622,11 @@ def sweep(
 
 def _stroke_chain(
     lub: LubricatedLip, params: LipParameters, chain: list[float], out: Path,
-    rows: list[dict[str, Any]], on_point: Any,
+    rows: list[dict[str, Any]], on_point: Any, failed: list[dict[str, Any]],
 ) -> None:  # fmt: skip
     """One stroke direction of a reciprocating sweep: pressurise, start at the slowest
-    speed of ``chain``, continue through the others (rows appended as they converge)."""
+    speed of ``chain``, continue through the others (rows appended as they converge;
+    the targets not reached appended to ``failed`` with their reason)."""
     from dolfinx_seal.scenes import set_parameter
 
     t0 = time.perf_counter()
@@ -629,7 +634,10 @@ def _stroke_chain(
     try:
         sp = solve_speed(lub, set_parameter(params, "film.speed", chain[0]))
     except SolverError as e:
-        get_logger().error("lip sweep: the chain at %s m/s did not start: %s", chain[0], e.what)
+        get_logger().error("lip sweep: the chain at %s m/s did not start: %s", chain[0], e)
+        failed.append({"speed": chain[0], "error": str(e)})
+        failed += [{"speed": v, "error": f"not attempted: the chain at {chain[0]:g} m/s did "
+                    "not start"} for v in chain[1:]]  # fmt: skip
         return
 
     def point(v: float, r: dict[str, Any], lub: LubricatedLip = lub) -> None:
@@ -645,7 +653,8 @@ def _stroke_chain(
     r0 = {"newton_iterations": pr["newton_iterations"] + sp["newton_iterations"],
           "wall_time_s": time.perf_counter() - t0}  # fmt: skip
     point(chain[0], r0)
-    speed_sweep(lub.problem, chain[1:], point, dict, params.stepping)
+    recs = speed_sweep(lub.problem, chain[1:], point, dict, params.stepping)
+    failed += [{"speed": r.speed, "error": r.error} for r in recs if not r.converged]
 
 
 def stroke_summary(rows: list[dict[str, Any]], stroke_length: float) -> list[dict[str, float]]:
