@@ -78,7 +78,7 @@ from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
-from dolfinx_seal.output import write_text_atomic
+from dolfinx_seal.output import write_sweep_failures
 from dolfinx_seal.params import set_parameter
 from dolfinx_seal.scenes import PointCallback, Resume, Scene
 from dolfinx_seal.scenes.common import solve_dry, write_profile
@@ -231,8 +231,105 @@ class LubricatedScene:
         return prob, self._info(s, law, law_info)
 
     def start_lubricated(self, prob: SolidContactProblem, p: Any) -> Results:
-        """The scene's ``start`` hook: first converged state at ``p.film.speed``."""
-        return self.start(prob, p, self.scales(p))
+        """The first converged state at ``p.film.speed``: the scene's ``start`` hook,
+        retried along the fallback chain (:meth:`first_state`)."""
+        return self.first_state(prob, p, self.scales(p))
+
+    def fallback_speeds(self, p: Any) -> list[float]:
+        """Where a failed start is tried again [m/s], in order: the scene's own start
+        speed (boundary lubrication for a rough contact, Moes M = 1 for a smooth
+        one) when it is not the target, then a decade above and a decade below the
+        target; each keeps the target's sign.  None at zero speed."""
+        target = float(p.film.speed)
+        if target == 0.0:  # at rest: no speed to continue from
+            return []
+        sign = math.copysign(1.0, target)
+        out: list[float] = []
+        if self.start_speed is not None:
+            out.append(sign * abs(float(self.start_speed(p))))
+        out += [10.0 * target, 0.1 * target]
+        seen: list[float] = []
+        for v in out:
+            if abs(v / target - 1.0) > 1e-2 and all(abs(v / w - 1.0) > 1e-2 for w in seen):
+                seen.append(v)
+        return seen
+
+    def first_state(self, prob: SolidContactProblem, p: Any, s: Scales) -> Results:
+        """The scene's start, retried along the fallback chain before a failure is
+        reported (docs/design.md, "Starts and their fallback chain"):
+
+        1. the scene's ``start`` at the target speed ``p.film.speed``;
+        2. the scene's ``start`` at each of :meth:`fallback_speeds`, then speed
+           continuation to the target;
+        3. adaptive load stepping from no load to the full load at the target
+           speed, from the undeformed body (no Hertz guess).
+
+        Each attempt starts from the state the problem was built with.  The
+        returned record's ``strategy`` says which attempt converged, and
+        ``start_attempts`` how many were made; if none converges, the
+        :class:`SolverError` names what diverged in the first attempt, then lists
+        every fallback attempt and why it failed."""
+        target = float(p.film.speed)
+        initial = prob.state()
+        failures: list[tuple[str, SolverError]] = []
+        t0 = time.perf_counter()
+
+        def reset(speed: float) -> None:
+            prob.restore(initial)
+            prob.film.set_speed(speed)
+            prob.film.flow_factor_weight.value = 1.0
+            prob.set_fraction(1.0)
+
+        def done(info: Results, strategy: str | None = None) -> Results:
+            info = dict(info)
+            if strategy is not None:
+                info["strategy"] = strategy
+                info["newton_iterations"] = info.get("newton_iterations", 0) + sum(
+                    e.history.newton_iterations for _, e in failures
+                )
+            info["start_attempts"] = len(failures) + 1
+            info["solve_time_s"] = time.perf_counter() - t0
+            return info
+
+        try:
+            return done(self.start(prob, p, s))
+        except SolverError as e:
+            failures.append((f"start at {target:g} m/s", e))
+            get_logger().warning("%s: the start failed (%s); trying the fallback chain",
+                                 self.name, e.what)  # fmt: skip
+        for v in self.fallback_speeds(p):
+            reset(v)
+            try:
+                info = self.start(prob, set_parameter(p, "film.speed", v), s)
+                recs = speed_sweep(prob, [target], lambda *_: None, dict, p.stepping)
+            except SolverError as e:
+                failures.append((f"start at {v:g} m/s", e))
+                continue
+            if recs[-1].converged:
+                info["newton_iterations"] += recs[-1].newton_iterations
+                return done(info, f"fallback: start at {v:.3g} m/s, speed continuation to "
+                            f"{target:.3g} m/s ({recs[-1].steps} steps)")  # fmt: skip
+            failures.append((f"continuation from {v:g} m/s",
+                             SolverError(recs[-1].error, where=f"{self.name} start")))  # fmt: skip
+        reset(target)
+        try:
+            prob.steps.clear()
+            prob.ramp()
+            its = sum(r.newton_iterations for r in prob.steps)
+            return done({"newton_iterations": its}, f"fallback: load stepping at {target:.3g} "
+                        f"m/s ({len(prob.steps)} steps)")  # fmt: skip
+        except SolverError as e:
+            failures.append(("load stepping", e))
+        reset(target)
+        first = failures[0][1]
+        raise SolverError(
+            f"{first.what}, and no fallback start converged either ({len(failures) - 1} "
+            "more attempts: "
+            + "; ".join(f"({i}) {how}: {e}" for i, (how, e) in enumerate(failures[1:], 2))
+            + ")",
+            where=f"{self.name} start at {target:g} m/s",
+            history=first.history,
+        )
 
     def partitioned_start(self, prob: SolidContactProblem, p: Any, s: Scales) -> Results:
         """The seeds' partitioned scheme from the Hertz-deformed shape, half a decade
@@ -261,7 +358,7 @@ class LubricatedScene:
             if getattr(p, "solver", "monolithic") == "partitioned":
                 solve_info = self.partitioned_start(prob, p, s)
             else:
-                solve_info = self.start(prob, p, s)
+                solve_info = self.first_state(prob, p, s)
             res = lubricated_results(prob, symmetry_factor=s.symmetry_factor,
                                      nominal_area=s.nominal_area)  # fmt: skip
             res.update(info)
@@ -405,10 +502,12 @@ class _Walk:
         prob = self.build(v0)
         p0 = set_parameter(self.p, "film.speed", v0)
         t0 = time.perf_counter()
-        start = self.scene.start(prob, p0, self.scales)
+        start = self.scene.first_state(prob, p0, self.scales)
         r0 = self.results()
         r0.update(newton_iterations=start["newton_iterations"], continuation_steps=1,
                   film_presolve_iterations=start.get("film_presolve_iterations", 0),
+                  start_attempts=start.get("start_attempts", 1),
+                  strategy=start.get("strategy", ""),
                   wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
         self.pending = list(todo)
         self.point(v0, r0)
@@ -464,9 +563,7 @@ class _Walk:
 
     def write_failures(self) -> None:
         """``sweep_failures.csv``: the targets not reached (this run and the one resumed)."""
-        if self.failed and COMM_WORLD.rank == 0:
-            lines = ["speed,error\n"] + [f'{f["speed"]!r},"{f["error"]}"\n' for f in self.failed]
-            write_text_atomic(self.out / "sweep_failures.csv", "".join(lines))
+        write_sweep_failures(self.out, self.failed)
 
 
 def write_dry_profile(
