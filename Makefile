@@ -6,7 +6,7 @@ NP3 ?= 3
 XDIST ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-slow lint bench soak env
+.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-slow lint bench soak stability env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
@@ -50,6 +50,11 @@ bench:  ## benchmarks write into bench/results/
 soak:  ## long (about an hour): memory over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*.csv, .png)
 	$(DX) python3 bench/soak.py
 	$(DX) mpirun -n $(NP) python3 bench/soak.py
+
+STABILITY ?= cylinder lip-install lip ball
+
+stability:  ## long (about an hour and a half on 2 cores): the stiff and extreme cases of studies/stability/ (results/stability/SCENE/)
+	for s in $(STABILITY); do $(DX) mpirun -n $(NP) python3 -m dolfinx_seal.cli study stability $$s || exit $$?; done
 
 env:  ## provision only
 	$(DX) python3 -c "import dolfinx; print('DOLFINx', dolfinx.__version__)"

@@ -12,6 +12,8 @@ Sub-commands:
 * ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``);
   one line per finished point.
 * ``study SCENE``        -- error against run time over resolution levels.
+* ``study stability SCENE`` -- the scene's stiff and extreme cases from its table
+  (``studies/stability/SCENE.toml``): ``stability.csv``, ``.md``, ``.png``.
 * ``mesh KIND``          -- build and save a mesh (``.msh``, ``info.json``, PNG).
 * ``psd FILE``           -- PSD (``psd.csv``, ``psd.png``) and moments of a measured height map.
 
@@ -159,6 +161,14 @@ def _sweep_failures(out: Path, over: str) -> list[str]:
 def _cmd_study(args: argparse.Namespace) -> int:
     from dolfinx_seal.studies import convergence_study
 
+    if args.scene == "stability":
+        return _cmd_stability(args)
+    if args.target is not None:
+        raise ParameterError(
+            f"study {args.scene} {args.target}: one SCENE (or: study stability SCENE)"
+        )
+    if args.values is None:
+        raise ParameterError("study SCENE: --values (the resolution levels) is required")
     p = _scenes.make_parameters(args.scene, args.scene_file, args.set)
     out = args.out or f"results/{args.scene}-study"
     values = _scenes.parse_values(args.values)
@@ -172,6 +182,33 @@ def _cmd_study(args: argparse.Namespace) -> int:
         )
     print0(f"{out}/study.csv, {out}/error_vs_time.png, {out}/results.json")
     return 0
+
+
+def _cmd_stability(args: argparse.Namespace) -> int:
+    """``study stability SCENE``: the scene's table of stiff and extreme cases."""
+    from dolfinx_seal import stability
+
+    if args.target not in _scenes.available():
+        raise ParameterError(
+            f"study stability: SCENE = {args.target!r} is not one of {_scenes.available()}"
+        )
+    if args.set or args.scene_file or args.values is not None:
+        raise ParameterError(
+            "study stability: the cases come from the table (--table); --set, --scene-file "
+            "and --values are not used"
+        )
+    table = stability.read_table(args.table or stability.table_path(args.target))
+    if table.scene != args.target:
+        raise ParameterError(f"{table.path}: scene = {table.scene!r}, not {args.target!r}")
+    out = args.out or f"results/stability/{args.target}"
+    names = [c for c in args.cases.split(",") if c] if args.cases else None
+    n = len(table.select(names))
+    with Progress(n, "case", what="case", verbose=args.verbose) as pr:
+        rows = stability.stability_study(table, out, names, pr)
+    counts = {s: sum(r["status"] == s for r in rows) for s in stability.STATUSES}
+    print0(", ".join(f"{k}: {v}" for k, v in counts.items()))
+    print0(f"{out}/stability.csv, {out}/stability.md, {out}/stability.png")
+    return 0 if counts["nan"] == 0 else 3
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -242,11 +279,27 @@ def build_parser() -> argparse.ArgumentParser:
         )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
 
-        sp = sub.add_parser("study", help="error against run time over discretisation levels")
-        common(sp)
-        sp.add_argument("--over", default="h_contact", help="resolution parameter (coarse to fine)")
+        sp = sub.add_parser(
+            "study", help="error against run time over discretisation levels (study SCENE), "
+            "or the stiff and extreme cases of a scene (study stability SCENE)",
+        )  # fmt: skip
+        sp.add_argument("scene", choices=[*_scenes.available(), "stability"])
+        sp.add_argument("target", nargs="?", help="study stability: the scene")
+        sp.add_argument("--scene-file", help="TOML scene file ([parameters] table or flat keys)")
         sp.add_argument(
-            "--values", required=True, help="levels, comma-separated or start:stop:n[:log]"
+            "--set", action="append", default=[], metavar="KEY=VALUE",
+            help="override a parameter (dotted keys for nested ones); repeatable",
+        )  # fmt: skip
+        sp.add_argument(
+            "--out", help="output folder (default results/SCENE-study, results/stability/SCENE)"
+        )
+        sp.add_argument("--over", default="h_contact", help="resolution parameter (coarse to fine)")
+        sp.add_argument("--values", help="levels, comma-separated or start:stop:n[:log]")
+        sp.add_argument(
+            "--table", help="study stability: the case table (default studies/stability/SCENE.toml)"
+        )
+        sp.add_argument(
+            "--cases", help="study stability: comma-separated case names (default: all)"
         )
         sp.add_argument(
             "--quantities", default="max_contact_pressure,contact_half_width",

@@ -27,7 +27,7 @@ LAYERS: dict[str, int] = {
     "solid": 5, "film": 5,
     "coupled": 6,
     "scenes": 7,
-    "studies": 8,
+    "studies": 8, "stability": 8,
     "paramdoc": 8,
     "cli": 9,
 }  # fmt: skip

@@ -1,0 +1,195 @@
+"""The stability study (``dolfinx-seal study stability SCENE``).
+
+* The shipped tables (``studies/stability/*.toml``) parse, every case resolves
+  to valid parameters, and together they span the extremes the study must cover
+  (the list of issue 19: moduli, near-incompressibility in both forms, eight
+  decades of speed, roughness, zero speed, smooth and rough, the three cavitation
+  models, a high sealed pressure, large strain, a tenth and ten times the load).
+* A bad table stops before anything runs, naming the file, the case and the
+  dotted parameter.
+* A run on the cheap rigid cylinder records every point of every case with the
+  right status and reason: converged, failed (an injected fault), not attempted
+  (after ``max_failures``, and once the time budget is spent), refused, and a
+  one-point case; the CSV, Markdown, PNG and ``results.json`` agree with the
+  returned rows.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+
+import pytest
+from test_fault_injection import REASON, RIGID, inject  # noqa: F401 (fixture)
+
+from dolfinx_seal import stability
+from dolfinx_seal.cli import main
+from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.output import read_csv
+from dolfinx_seal.params import get_dotted
+
+SCENES = ("cylinder", "lip-install", "lip", "ball")
+
+
+def _tables() -> list[stability.Table]:
+    return [stability.read_table(stability.table_path(s)) for s in SCENES]
+
+
+def test_the_shipped_tables_span_the_extremes():
+    tables = _tables()
+    cases = [(t, c) for t in tables for c in t.cases]
+    assert len(cases) >= 24
+    seen: dict[str, set] = {}
+    speeds: list[float] = []
+    for t, c in cases:
+        if c.expect == "refused":
+            continue
+        p = stability.case_parameters(t, c)
+        for key in ("material.E", "material.nu", "material.formulation", "roughness.h_rms",
+                    "contact.model", "film.cavitation", "film.speed"):  # fmt: skip
+            if get_dotted(p, key) is not None:
+                seen.setdefault(key, set()).add(get_dotted(p, key))
+        if c.over == "film.speed":
+            speeds += [abs(v) for v in c.values]
+        if t.scene == "lip" and c.over == "oil_pressure":
+            seen.setdefault("oil_pressure", set()).update(c.values)
+        if t.scene == "lip-install" and "lip.tip_radius" in c.settings:
+            seen.setdefault("sharp edge", set()).add(c.settings["lip.tip_radius"])
+    assert min(seen["material.E"]) <= 1e6 and max(seen["material.E"]) >= 1e9
+    nearly = {c.settings.get("material.formulation", "mixed") for _, c in cases
+              if c.settings.get("material.nu") == 0.4999}  # fmt: skip
+    assert nearly == {"mixed", "compressible"}
+    assert min(speeds) <= 1e-7 and max(speeds) >= 10.0
+    assert 0.0 in seen["film.speed"]  # a zero-speed case that runs
+    assert {0.1e-6, 10e-6} <= seen["roughness.h_rms"]
+    assert {"none", "persson"} <= seen["contact.model"]
+    assert {"none", "reynolds", "jfo"} <= seen["film.cavitation"]
+    assert max(seen["oil_pressure"]) >= 0.5e6
+    assert min(seen["sharp edge"]) <= 20e-6
+    loads = {(t.scene, c.settings["load"]) for t, c in cases if "load" in c.settings}
+    default = {t.scene: get_dotted(stability.case_parameters(t, t.cases[0]), "load")
+               for t in tables if t.scene in ("cylinder", "ball")}  # fmt: skip
+    ratios = {v / default[s] for s, v in loads}
+    assert min(ratios) <= 0.1 + 1e-12 and max(ratios) >= 10.0 - 1e-12
+    assert any(c.expect == "refused" for _, c in cases)
+
+
+@pytest.mark.parametrize(
+    "text, needles",
+    [
+        ('scene = "cylinder"\nspeed = 1\n[[case]]\nname = "a"\n', ["unknown key", "speed"]),
+        ('scene = "cylinder"\n[[case]]\nname = "a"\nsett = {}\n', ["case 1 ('a')", "sett"]),
+        ('scene = "nope"\n[[case]]\nname = "a"\n', ["scene = 'nope'"]),
+        ('scene = "cylinder"\n[[case]]\nname = "soft"\nset = { "material.nu" = 0.7 }\n',
+         ["case 'soft'", "material.nu = 0.7", "(-1, 0.5]"]),
+        ('scene = "cylinder"\n[[case]]\nname = "s"\nset = { material = { E = -1.0 } }\n',
+         ["case 's'", "material.E = -1.0"]),
+        ('scene = "cylinder"\nover = "film.speed"\nvalues = [0.1]\n[[case]]\nname = "a"\n'
+         '[[case]]\nname = "A"\n', ["unique"]),
+        ('scene = "cylinder"\nover = "film.speed"\n[[case]]\nname = "a"\n', ["needs values"]),
+        ('scene = "cylinder"\nover = "film.speed"\nvalues = [0.1, -2e9]\n[[case]]\nname = "a"\n',
+         ["case 'a'", "film.speed = -2000000000.0"]),
+        ('scene = "cylinder"\n[[case]]\nname = "a"\nexpect = "fail"\n', ["expect = 'fail'"]),
+        ('scene = "cylinder"\n[[case]]\nname = "a"\ntime_budget = -1\n', ["time_budget = -1"]),
+        ('scene = "cylinder"\n', ["no [[case]]"]),
+        ('scene = "cylinder\n', ["not valid TOML"]),
+    ],
+)  # fmt: skip
+def test_a_bad_table_names_the_file_the_case_and_the_parameter(mpi_tmp_path, text, needles):
+    path = mpi_tmp_path / "bad.toml"
+    if COMM_WORLD.rank == 0:
+        path.write_text(text)
+    COMM_WORLD.barrier()
+    with pytest.raises(ParameterError) as info:
+        stability.read_table(path)
+    msg = str(info.value)
+    assert str(path) in msg, msg
+    for n in needles:
+        assert n in msg, msg
+
+
+def _rigid_table() -> str:
+    """The rigid cylinder of the fault-injection tests, five cases."""
+    lines = ['scene = "cylinder"', 'over = "film.speed"', "values = [0.05, 0.1]", "[parameters]"]
+    for k, v in _flat(RIGID).items():
+        lines.append(f'"{k}" = {json.dumps(v)}')
+    lines += [
+        '[[case]]', 'name = "plain"', 'about = "two points, both converge"',
+        '[[case]]', 'name = "faulty"', 'about = "a fault above 0.15 m/s"',
+        "values = [0.05, 0.1, 0.2, 0.4]", 'set = { "stepping.max_failures" = 1 }',
+        '[[case]]', 'name = "hurried"', "time_budget = 1e-9", "values = [0.05, 0.1, 0.2]",
+        '[[case]]', 'name = "at rest"', 'set = { "film.speed" = 0.0 }', 'over = ""',
+        'expect = "refused"',
+        '[[case]]', 'name = "one point"', 'set = { "film.speed" = 0.08 }', 'over = ""',
+    ]  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
+def _flat(d, prefix=""):
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.update(_flat(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
+def test_a_stability_run_records_every_point(mpi_tmp_path, inject, capsys):  # noqa: F811
+    table = mpi_tmp_path / "rigid.toml"
+    if COMM_WORLD.rank == 0:
+        table.write_text(_rigid_table())
+    COMM_WORLD.barrier()
+    fault = inject("nan", above=0.15)
+    out = mpi_tmp_path / "stability"
+    rc = main(["study", "stability", "cylinder", "--table", str(table), "--out", str(out)])
+    assert rc == 0
+    assert fault.fired > 0
+    rows = read_csv(out / "stability.csv")
+    got = [(r["case"], r["value"], r["status"]) for r in rows]
+    assert got == [
+        ("plain", "0.05", "converged"), ("plain", "0.1", "converged"),
+        ("faulty", "0.05", "converged"), ("faulty", "0.1", "converged"),
+        ("faulty", "0.2", "failed"), ("faulty", "0.4", "not attempted"),
+        ("hurried", "0.05", "converged"), ("hurried", "0.1", "not attempted"),
+        ("hurried", "0.2", "not attempted"),
+        ("at rest", "", "refused"), ("one point", "", "converged"),
+    ]  # fmt: skip
+    by = {(r["case"], r["value"]): r for r in rows}
+    assert re.search(REASON["nan"], by["faulty", "0.2"]["error"])
+    assert "at speed" in by["faulty", "0.2"]["error"]
+    assert "1 consecutive failed target" in by["faulty", "0.4"]["error"]
+    assert "time budget" in by["hurried", "0.1"]["error"]
+    assert "nothing would carry the load" in by["at rest", ""]["error"]
+    for r in rows:
+        if r["status"] == "converged":  # the residuals of a converged point are on file
+            assert int(r["newton_iterations"]) >= 0 and r["error"] == ""
+            for k in ("load_balance_error", "mass_balance_error", "mu", "h_min"):
+                assert math.isfinite(float(r[k])), (r["case"], k)
+            assert float(r["load_balance_error"]) < 1e-8
+            assert float(r["mass_balance_error"]) < 1e-6
+            assert float(r["complementarity_error"]) >= 0.0  # Reynolds: a VI solve
+    summary = json.loads((out / "results.json").read_text())
+    assert summary["counts"] == {"converged": 6, "failed": 1, "stopped": 0, "not attempted": 3,
+                                 "refused": 1, "nan": 0}  # fmt: skip
+    md = (out / "stability.md").read_text()
+    for name in ("plain", "faulty", "hurried", "at rest", "one point"):
+        assert f"## {name}" in md
+    assert "| faulty | a fault above 0.15 m/s | film.speed | 2 | 1 | 1 | 0 |" in md
+    assert (out / "stability.png").stat().st_size > 0
+    assert "converged: 6, failed: 1" in capsys.readouterr().out
+
+
+def test_select_and_the_command_line_refuse_what_is_not_there(mpi_tmp_path):
+    t = stability.read_table(stability.table_path("cylinder"))
+    assert [c.name for c in t.select(["E 1 GPa", "default"])] == ["default", "E 1 GPa"]
+    assert [c.name for c in t.select(["e-1-gpa"])] == ["E 1 GPa"]  # by folder slug
+    with pytest.raises(ParameterError, match="not a case of"):
+        t.select(["E 2 GPa"])
+    assert main(["study", "stability", "nope-scene"]) == 2
+    assert main(["study", "stability", "cylinder", "--set", "load=3"]) == 2
+    assert main(["study", "stability", "cylinder", "--table",
+                 str(stability.table_path("ball"))]) == 2  # fmt: skip
+    assert main(["study", "cylinder"]) == 2  # the convergence study needs --values
