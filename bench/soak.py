@@ -24,10 +24,16 @@ status 1) if it exceeds ``--bound`` kB/point beyond the result rows the sweep
 keeps by design (their measured size, ``results_kept_kB``), or if the live
 PETSc objects grow at all after the warm-up.
 
+``--trim`` calls glibc's ``malloc_trim(0)`` before every reading, so the RSS
+counts the C heap in use and not the free pages the allocator keeps (on 2 ranks
+rank 0's untrimmed RSS grew in steps of 4-388 kB that trimming removes; the
+files get ``_trim`` appended).  ``python_blocks_max`` is Python's allocated
+blocks (``sys.getallocatedblocks``, the largest rank).
+
 Writes ``soak.csv`` / ``soak.png`` (sweep) or ``soak_rebuild.csv`` /
 ``soak_rebuild.png`` into ``--out`` (``_np<N>`` appended under ``mpirun -n N``).
 
-Run:  scripts/dx python3 bench/soak.py [--points 240] [--h-contact 60e-6]
+Run:  scripts/dx python3 bench/soak.py [--points 240] [--h-contact 60e-6] [--trim]
       scripts/dx mpirun -n 2 python3 bench/soak.py
       scripts/dx python3 bench/soak.py --mode rebuild --points 40 --warmup 5
 """
@@ -65,6 +71,14 @@ def rss_kb() -> int:
             if line.startswith("VmRSS:"):
                 return int(line.split()[1])
     raise RuntimeError("no VmRSS in /proc/self/status")
+
+
+def malloc_trim() -> None:
+    """Hand the C heap's free pages back to the system (glibc ``malloc_trim(0)``), so
+    the RSS that follows counts memory in use, not freed memory the allocator keeps."""
+    import ctypes
+
+    ctypes.CDLL("libc.so.6").malloc_trim(0)
 
 
 _OBJ_LINE = re.compile(r"^\s*(\S.*?)\s+(\d+)\s+(\d+)\s*$", re.M)
@@ -126,8 +140,10 @@ def speed_cycle(speeds: list[float], n: int) -> list[float]:
 class Recorder:
     """Per-point memory census, written to a CSV row at once."""
 
-    def __init__(self, out: Path, name: str, h_contact: float, keeps_results: bool) -> None:
+    def __init__(self, out: Path, name: str, h_contact: float, keeps_results: bool,
+                 trim: bool = False) -> None:  # fmt: skip
         self.out = out
+        self.trim = trim
         self.keeps_results = keeps_results  # a sweep returns its rows; run_scene keeps none
         self.h_contact = h_contact
         self.scratch = out / f".{name}_petsc_log.txt"
@@ -140,14 +156,18 @@ class Recorder:
         if self.keeps_results:  # the sweep keeps its result rows (by design)
             self.kept += deep_size(r)
         gc.collect()
+        if self.trim:
+            malloc_trim()
         rss = COMM_WORLD.allgather(rss_kb())
+        blocks = COMM_WORLD.allgather(sys.getallocatedblocks())
         alive, options = petsc_census(self.scratch)
         row = {
             "point": len(self.rows), "speed": speed, "mu": float(r["mu"]),
             "newton_iterations": int(r.get("newton_iterations", 0) or 0),
             "rss_rank0_kB": rss[0], "rss_max_kB": max(rss), "rss_sum_kB": sum(rss),
             "petsc_objects": sum(alive.values()), "petsc_options": options,
-            "python_objects": len(gc.get_objects()), "results_kept_kB": 0.0, "mpl_text_cache": mpl_text_cache(),
+            "python_objects": len(gc.get_objects()), "python_blocks_max": max(blocks),
+            "results_kept_kB": 0.0, "mpl_text_cache": mpl_text_cache(),
             "time_s": time.perf_counter() - self.t0,
             "ranks": COMM_WORLD.size, "h_contact": self.h_contact,
             **{f"petsc_{k.lower().replace(' ', '_')}": n for k, n in sorted(alive.items())},
@@ -253,13 +273,20 @@ def main(argv: list[str] | None = None) -> int:
                         help="speeds walked up and down (sweep) [m/s]")  # fmt: skip
     parser.add_argument("--speed", type=float, default=1e-2, help="speed of each rebuild [m/s]")
     parser.add_argument("--bound", type=float, default=1.0, help="allowed growth [kB/point]")
+    parser.add_argument("--trim", action="store_true",
+                        help="malloc_trim(0) before each RSS reading: count the C heap in use, "
+                        "not freed pages glibc keeps (writes soak*_trim.csv)")  # fmt: skip
     parser.add_argument("--replot", action="store_true",
                         help="only fit and plot the CSV of an earlier run (same --mode, --out)")  # fmt: skip
     parser.add_argument("--out", default="bench/results")
     args = parser.parse_args(argv)
     out = bcast_path(args.out)
     suffix = "" if COMM_WORLD.size == 1 else f"_np{COMM_WORLD.size}"
-    name = ("soak" if args.mode == "sweep" else "soak_rebuild") + suffix
+    name = (
+        ("soak" if args.mode == "sweep" else "soak_rebuild")
+        + suffix
+        + ("_trim" if args.trim else "")
+    )
     if args.replot:
         rows = _read_rows(out / f"{name}.csv") if COMM_WORLD.rank == 0 else []
         rows = COMM_WORLD.bcast(rows, root=0)
@@ -271,7 +298,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.points <= args.warmup + 1:
         raise SystemExit("--points must exceed --warmup + 1")
     work = out / f"{name}_runs"
-    rec = Recorder(out, name, args.h_contact, keeps_results=args.mode == "sweep")
+    rec = Recorder(out, name, args.h_contact, keeps_results=args.mode == "sweep", trim=args.trim)
     print0(f"soak ({args.mode}): {args.points} points, h_contact = {args.h_contact:g} m, "
            f"ranks: {COMM_WORLD.size}")  # fmt: skip
     if args.mode == "sweep":
