@@ -551,6 +551,9 @@ def check_out_dir(
         "over": over,
         "values": None if values is None else _plain(list(values)),
     }
+    out = Path(out_dir)
+    if comm.bcast(out.exists() and not out.is_dir() if comm.rank == 0 else None, root=0):
+        raise OutputFolderError(f"--out {out} is a file, not a folder: give a folder to write into")
     conflict = None
     if comm.rank == 0:
         try:

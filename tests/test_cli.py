@@ -7,6 +7,9 @@ import sys
 
 import pytest
 
+from dolfinx_seal.cli import main
+from dolfinx_seal.mpi import COMM_WORLD
+
 
 @pytest.mark.skip_in_parallel
 def test_versions_prints_dolfinx_09():
@@ -41,3 +44,16 @@ def test_psd_of_a_height_map(mpi_tmp_path):
     table = np.loadtxt(mpi_tmp_path / "psd" / "psd.csv", delimiter=",", skiprows=1, ndmin=2)
     assert table.shape[1] == 2 and np.all(table[:, 1] > 0)
     assert (mpi_tmp_path / "psd" / "psd.png").stat().st_size > 1000
+
+
+def test_an_out_that_is_a_file_is_refused_with_one_line(mpi_tmp_path, capsys):
+    """``--out`` naming a file: exit 2 with a message, no traceback (force or not)."""
+    path = mpi_tmp_path / "a-file"
+    if COMM_WORLD.rank == 0:
+        path.write_text("not a folder\n")
+    COMM_WORLD.barrier()
+    for extra in ([], ["--force"]):
+        argv = ["run", "flat", "--set", "points_per_decade=8", "--out", str(path), *extra]
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert "is a file, not a folder" in err and "Traceback" not in err
