@@ -193,3 +193,22 @@ def test_select_and_the_command_line_refuse_what_is_not_there(mpi_tmp_path):
     assert main(["study", "stability", "cylinder", "--table",
                  str(stability.table_path("ball"))]) == 2  # fmt: skip
     assert main(["study", "cylinder"]) == 2  # the convergence study needs --values
+
+
+def test_the_fallback_speeds_begin_where_the_start_has_not_been():
+    """A rough cylinder starts at most at its boundary speed (the speeds above it
+    would begin there again), a smooth one at least at Moes M = 1."""
+    from dolfinx_seal.scenes import cylinder, make_parameters
+
+    rough = make_parameters("cylinder", values={"film": {"speed": 1e-3}})
+    v0 = cylinder.first_speed(rough)
+    assert v0 == pytest.approx(cylinder.start_speed(rough), rel=1e-12) and v0 < 1e-3
+    got = cylinder.CYLINDER.fallback_speeds(rough)
+    assert got == pytest.approx([v0 / 10, v0 / 100], rel=1e-12)
+    smooth = make_parameters("cylinder", values={"contact": {"model": "none"},
+                                                 "film": {"speed": 1e-3}})  # fmt: skip
+    v0 = cylinder.first_speed(smooth)
+    assert v0 > 1e-3
+    assert cylinder.CYLINDER.fallback_speeds(smooth) == pytest.approx([v0 * 10, v0 * 100])
+    at_rest = make_parameters("cylinder", values={"film": {"speed": 0.0}})
+    assert cylinder.CYLINDER.fallback_speeds(at_rest) == []

@@ -277,7 +277,7 @@ BALL = LubricatedScene(
     summary="rubber ball on a flat (S1 sec 3): 3D soft EHL film + Persson contact, or dry",
     parameters=BallParameters,
     scales=scales, mesh=mesh, problem=problem, start=start, write_point=write_point,
-    write_dry=write_dry, film_gap=film_gap,
+    write_dry=write_dry, film_gap=film_gap, first_speed=start_speed,
 )  # fmt: skip
 SCENE = BALL.scene
 run, run_lubricated, run_dry, sweep = BALL.run, BALL.run_lubricated, BALL.run_dry, BALL.sweep

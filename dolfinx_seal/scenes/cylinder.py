@@ -211,6 +211,19 @@ def start_speed(p: CylinderParameters) -> float:
     )
 
 
+def first_speed(p: CylinderParameters) -> float:
+    """The signed speed [m/s] of :func:`start`'s first coupled solve: rough and
+    deformable, the lower of ``|film.speed|`` and the boundary-lubrication
+    :func:`start_speed`; smooth, :func:`start_speed` (at least ``|film.speed|``);
+    rigid, ``film.speed`` itself."""
+    v = p.film.speed
+    if not p.bulk:
+        return v
+    if p.contact.model == "none":
+        return math.copysign(start_speed(p), v)
+    return math.copysign(min(abs(v), start_speed(p)), v)
+
+
 def _martin_start(prob: SolidContactProblem, p: CylinderParameters, speed: float) -> int:
     """The film at ``speed`` on the present shape, with the flat at the Martin film
     thickness of a rigid cylinder ``4.9 eta (U/2) R / F`` (at least ``h_rms``; force
@@ -294,7 +307,7 @@ CYLINDER = LubricatedScene(
     summary="rubber cylinder on a flat (S1 sec 2): soft EHL film + Persson contact, or dry",
     parameters=CylinderParameters,
     scales=scales, mesh=mesh, problem=problem, start=start, write_point=write_point,
-    write_dry=write_dry, start_speed=start_speed,
+    write_dry=write_dry, start_speed=start_speed, first_speed=first_speed,
 )  # fmt: skip
 SCENE = CYLINDER.scene
 run, run_lubricated, run_dry, sweep = (

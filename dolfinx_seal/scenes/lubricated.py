@@ -31,6 +31,13 @@ A scene module is its parameter dataclass plus the hooks of a
     The gap scale [m] of the film's rows and unknowns (default ``h_rms``): the
     film thickness the scene expects at its start, where that is far above
     ``h_rms`` (a smooth contact in full film).
+``first_speed(p) -> speed`` (optional)
+    The signed speed [m/s] at which the scene's ``start`` makes its first coupled
+    solve for these parameters (it may differ from ``p.film.speed``: the start
+    then walks there); the fallback chain of a failed start
+    (:meth:`LubricatedScene.first_state`) uses it to try speeds where the start
+    really begins elsewhere.  Without it, a failed start goes straight to load
+    stepping.
 
 What the template does with them, the same way for every scene: the parameters
 must have ``load``, ``h_contact``, ``material``, ``roughness``, ``contact``,
@@ -164,6 +171,7 @@ class LubricatedScene:
     write_dry: Callable[[Path, SolidContactProblem, Any, Scales], Results]
     start_speed: Callable[[Any], float] | None = None
     film_gap: Callable[[Any], float] | None = None
+    first_speed: Callable[[Any], float] | None = None
 
     def __repr__(self) -> str:
         return f"LubricatedScene({self.name!r})"
@@ -236,35 +244,41 @@ class LubricatedScene:
         return self.first_state(prob, p, self.scales(p))
 
     def fallback_speeds(self, p: Any) -> list[float]:
-        """Where a failed start is tried again [m/s], in order: the scene's own start
-        speed (boundary lubrication for a rough contact, Moes M = 1 for a smooth
-        one) when it is not the target, then a decade above and a decade below the
-        target; each keeps the target's sign.  None at zero speed."""
+        """Where a failed start is tried again [m/s], in order: the speeds a decade
+        and two decades below and above the speed the scene's start begins at
+        (:attr:`first_speed`), keeping only those at which the scene's start would
+        begin somewhere it has not been tried (a rough cylinder starts at most at
+        its boundary-lubrication speed, a smooth one at least at Moes M = 1, so half
+        of them coincide).  None at zero speed, or for a scene without
+        :attr:`first_speed`."""
         target = float(p.film.speed)
-        if target == 0.0:  # at rest: no speed to continue from
+        if target == 0.0 or self.first_speed is None:  # at rest: no speed to continue from
             return []
-        sign = math.copysign(1.0, target)
+        tried = [float(self.first_speed(p))]
         out: list[float] = []
-        if self.start_speed is not None:
-            out.append(sign * abs(float(self.start_speed(p))))
-        out += [10.0 * target, 0.1 * target]
-        seen: list[float] = []
-        for v in out:
-            if abs(v / target - 1.0) > 1e-2 and all(abs(v / w - 1.0) > 1e-2 for w in seen):
-                seen.append(v)
-        return seen
+        for k in (-1, 1, -2, 2):
+            v = tried[0] * 10.0**k
+            try:
+                begins = float(self.first_speed(set_parameter(p, "film.speed", v)))
+            except ParameterError:  # a speed the scene refuses
+                continue
+            if all(abs(begins / w - 1.0) > 1e-2 for w in tried):
+                tried.append(begins)
+                out.append(v)
+        return out
 
     def first_state(self, prob: SolidContactProblem, p: Any, s: Scales) -> Results:
         """The scene's start, retried along the fallback chain before a failure is
         reported (docs/design.md, "Starts and their fallback chain"):
 
         1. the scene's ``start`` at the target speed ``p.film.speed``;
-        2. the scene's ``start`` at each of :meth:`fallback_speeds`, then speed
-           continuation to the target;
+        2. the scene's ``start`` from each of :meth:`fallback_speeds` (other speeds
+           to begin at), then speed continuation to the target;
         3. adaptive load stepping from no load to the full load at the target
            speed, from the undeformed body (no Hertz guess).
 
-        Each attempt starts from the state the problem was built with.  The
+        Each attempt starts from the state the problem was built with; once
+        ``p.stepping.time_budget`` (if set) is spent, no further attempt is made.  The
         returned record's ``strategy`` says which attempt converged, and
         ``start_attempts`` how many were made; if none converges, the
         :class:`SolverError` names what diverged in the first attempt, then lists
@@ -297,7 +311,14 @@ class LubricatedScene:
             failures.append((f"start at {target:g} m/s", e))
             get_logger().warning("%s: the start failed (%s); trying the fallback chain",
                                  self.name, e.what)  # fmt: skip
+        budget = float(getattr(getattr(p, "stepping", None), "time_budget", 0.0) or 0.0)
+
+        def spent() -> bool:  # decided on rank 0: every rank takes the same branch
+            return bool(budget) and COMM_WORLD.bcast(time.perf_counter() - t0 > budget, root=0)
+
         for v in self.fallback_speeds(p):
+            if spent():
+                break
             reset(v)
             try:
                 info = self.start(prob, set_parameter(p, "film.speed", v), s)
@@ -313,6 +334,8 @@ class LubricatedScene:
                              SolverError(recs[-1].error, where=f"{self.name} start")))  # fmt: skip
         reset(target)
         try:
+            if spent():
+                raise SolverError(f"not attempted: the time budget of {budget:g} s was spent")
             prob.steps.clear()
             prob.ramp()
             its = sum(r.newton_iterations for r in prob.steps)
