@@ -203,8 +203,13 @@ def _cmd_stability(args: argparse.Namespace) -> int:
     out = args.out or f"results/stability/{args.target}"
     names = [c for c in args.cases.split(",") if c] if args.cases else None
     n = len(table.select(names))
-    with Progress(n, "case", what="case", verbose=args.verbose) as pr:
-        rows = stability.stability_study(table, out, names, pr)
+    if args.report_only:
+        if names:
+            raise ParameterError("study stability --report-only: the cases are those in --out")
+        rows = stability.rewrite_report(table, out)
+    else:
+        with Progress(n, "case", what="case", verbose=args.verbose) as pr:
+            rows = stability.stability_study(table, out, names, pr)
     counts = {s: sum(r["status"] == s for r in rows) for s in stability.STATUSES}
     print0(", ".join(f"{k}: {v}" for k, v in counts.items()))
     print0(f"{out}/stability.csv, {out}/stability.md, {out}/stability.png")
@@ -301,6 +306,10 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument(
             "--cases", help="study stability: comma-separated case names (default: all)"
         )
+        sp.add_argument(
+            "--report-only", action="store_true",
+            help="study stability: rewrite the report of the run in --out (no solving)",
+        )  # fmt: skip
         sp.add_argument(
             "--quantities", default="max_contact_pressure,contact_half_width",
             help="comma-separated result keys to follow",

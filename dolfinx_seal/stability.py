@@ -40,6 +40,9 @@ Point statuses:
 ``not attempted``
     skipped by design: after ``stepping.max_failures`` consecutive failures, or
     once the case's time budget was spent;
+``suspect``
+    converged, but to a state that is not physical (a negative film thickness
+    ``h_min``), with the reason;
 ``refused``
     the input checks refused the case before anything was assembled (a case
     marked ``expect = "refused"``: physics says there is no solution);
@@ -74,7 +77,7 @@ from dolfinx_seal.output import Progress, SweepWriter, write_results, write_text
 #: Where the tables of the scenes live (``studies/stability/SCENE.toml``).
 TABLES = Path(__file__).resolve().parents[1] / "studies" / "stability"
 
-STATUSES = ("converged", "failed", "stopped", "not attempted", "refused", "nan")
+STATUSES = ("converged", "suspect", "failed", "stopped", "not attempted", "refused", "nan")
 
 #: Columns of ``stability.csv`` besides the headline results a point reports.
 COLUMNS = (
@@ -292,6 +295,9 @@ def _point_row(case: Case, value: Any, status: str, res: Mapping[str, Any] | Non
         if bad:
             row["status"] = "nan"
             error = f"not finite: {', '.join(bad)}"
+        elif isinstance(res.get("h_min"), float) and res["h_min"] < 0.0:
+            row["status"] = "suspect"
+            error = f"converged to a negative film thickness: h_min = {res['h_min']:.3g} m"
     row["error"] = " ".join(error.split())
     return row
 
@@ -428,6 +434,57 @@ def stability_study(
     return rows
 
 
+def rewrite_report(table: Table, out: str | Path) -> list[dict[str, Any]]:
+    """Classify the points of an earlier run in ``out`` again (its ``stability.csv``,
+    with the checks of this version: ``nan``, ``suspect``) and write its
+    ``stability.csv``, ``stability.md``, ``stability.png`` and the counts of
+    ``results.json`` anew, without solving anything (``study stability SCENE
+    --report-only``).  Returns the rows."""
+    from dolfinx_seal.output import parse_cell, read_csv
+
+    out = Path(out)
+    summary = json.loads((out / "results.json").read_text())
+    if summary.get("study") != "stability" or summary.get("scene") != table.scene:
+        raise ParameterError(f"{out}: no stability study of {table.scene!r} to report on")
+    cases = {c.name: c for c in table.cases}
+    rows = []
+    for raw in read_csv(out / "stability.csv"):
+        r = {k: parse_cell(v) for k, v in raw.items() if v != ""}
+        case = cases.get(str(raw["case"]))
+        if case is None:
+            raise ParameterError(f"{out}: case {raw['case']!r} is not in {table.path}")
+        value = r.get("value", "")
+        if r["status"] == "converged":
+            row = _point_row(case, value, "converged", r)
+            row["strategy"] = r.get("strategy", "")
+        else:
+            row = {**r, "case": case.name, "value": value, "error": str(r.get("error", ""))}
+        rows.append(row)
+    selected = [c for c in table.cases if any(r["case"] == c.name for r in rows)]
+    counts = {s: sum(r["status"] == s for r in rows) for s in STATUSES}
+    summary.update(counts=counts)
+    times = summary.get("case_wall_time_s", {})
+    write_results(out, summary)
+    if COMM_WORLD.rank == 0:
+        cols = (*COLUMNS, *HEADLINE, "strategy", "error")
+        text = ",".join(cols) + "\n" + "".join(_csv_row([r.get(k, "") for k in cols]) for r in rows)
+        write_text_atomic(out / "stability.csv", text)
+        write_text_atomic(out / "stability.md",
+                          markdown(table, selected, rows, times, summary.get("ranks", 1)))  # fmt: skip
+        plot_map(table, selected, rows, out / "stability.png")
+    COMM_WORLD.barrier()
+    return rows
+
+
+def _csv_row(values: Sequence[Any]) -> str:
+    import csv
+    import io
+
+    buf = io.StringIO(newline="")
+    csv.writer(buf, lineterminator="\n").writerow(values)
+    return buf.getvalue()
+
+
 # ------------------------------------------------------------------ report
 def _cell(v: Any) -> str:
     if isinstance(v, float):
@@ -445,7 +502,7 @@ def case_summary(case: Case, pts: Sequence[Mapping[str, Any]]) -> dict[str, Any]
     first = next((r for r in pts if r["status"] != "converged"), None)
     return {
         "converged": sum(r["status"] == "converged" for r in pts),
-        "failed": sum(r["status"] in ("failed", "stopped", "nan") for r in pts),
+        "failed": sum(r["status"] in ("failed", "stopped", "nan", "suspect") for r in pts),
         "not attempted": sum(r["status"] == "not attempted" for r in pts),
         "refused": sum(r["status"] == "refused" for r in pts),
         "newton": sum(int(r.get("newton_iterations", 0) or 0) for r in pts),
@@ -459,13 +516,13 @@ def case_summary(case: Case, pts: Sequence[Mapping[str, Any]]) -> dict[str, Any]
 
 
 def markdown(table: Table, cases: Sequence[Case], rows: Sequence[Mapping[str, Any]],
-             times: Mapping[str, float]) -> str:  # fmt: skip
+             times: Mapping[str, float], ranks: int | None = None) -> str:  # fmt: skip
     """The report: a summary table (a line per case) and each case's points."""
     lines = [f"# Stability study: `{table.scene}`", "",
              f"Table `{table.path.name}`, {len(cases)} cases, {len(rows)} points, "
-             f"{COMM_WORLD.size} rank(s).  Status counts: "
+             f"{ranks or COMM_WORLD.size} rank(s).  Status counts: "
              + ", ".join(f"{s} {sum(r['status'] == s for r in rows)}" for s in STATUSES) + ".",
-             "", "| case | what it tests | over | converged | failed | not attempted | refused "
+             "", "| case | what it tests | over | converged | failed, stopped or suspect | not attempted | refused "
              "| Newton | max load res. | max mass res. | max compl. res. | time [s] "
              "| first failure |", "|---" * 13 + "|"]  # fmt: skip
     for c in cases:
@@ -493,7 +550,7 @@ def markdown(table: Table, cases: Sequence[Case], rows: Sequence[Mapping[str, An
     return "\n".join(lines) + "\n"
 
 
-_COLOURS = {"converged": "#4caf50", "failed": "#e53935", "stopped": "#fb8c00",
+_COLOURS = {"converged": "#4caf50", "suspect": "#fdd835", "failed": "#e53935", "stopped": "#fb8c00",
             "not attempted": "#bdbdbd", "refused": "#1e88e5", "nan": "#6a1b9a"}  # fmt: skip
 
 
@@ -541,6 +598,7 @@ __all__ = [
     "markdown",
     "plot_map",
     "read_table",
+    "rewrite_report",
     "run_case",
     "stability_study",
     "table_path",
