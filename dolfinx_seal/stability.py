@@ -565,13 +565,17 @@ def plot_map(table: Table, cases: Sequence[Case], rows: Sequence[Mapping[str, An
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
-    values = sorted({r["value"] for r in rows if isinstance(r["value"], int | float)})
+    def key(v: float) -> float:  # "1e-7:10:9:log" and "1e-4:10:6:log" differ in the last bits
+        return float(f"{v:.9g}")
+
+    values = sorted({key(r["value"]) for r in rows if isinstance(r["value"], int | float)})
     cols = [_cell(v) for v in values] + (["point"] if any(not c.over for c in cases) else [])
     width = max(4.5, 2.6 + 0.55 * len(cols))
     fig, ax = plt.subplots(figsize=(width, 1.2 + 0.3 * len(cases)))
     for i, c in enumerate(cases):
         for r in (r for r in rows if r["case"] == c.name):
-            j = len(values) if not isinstance(r["value"], int | float) else values.index(r["value"])
+            num = isinstance(r["value"], int | float)
+            j = values.index(key(r["value"])) if num else len(values)
             ax.add_patch(plt.Rectangle((j, i), 1, 1, color=_COLOURS[r["status"]], ec="white"))
             if r.get("newton_iterations") not in (None, ""):
                 ax.text(j + 0.5, i + 0.5, str(int(r["newton_iterations"])), ha="center",
