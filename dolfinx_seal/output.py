@@ -46,6 +46,7 @@ from typing import IO, Any
 
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.params import flatten
 
 _FORCE = "N (N/m in plane strain)"
 
@@ -723,23 +724,12 @@ def _differs(old: Mapping[str, Any], new: Mapping[str, Any]) -> str | None:
     return f"{_what(old)} with other parameters: {shown}{more}"
 
 
-def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for k, v in d.items():
-        name = f"{prefix}{k}"
-        if isinstance(v, Mapping):
-            out.update(_flatten(v, name + "."))
-        else:
-            out[name] = v
-    return out
-
-
 _ABSENT = object()
 
 
 def _param_diffs(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
     """``name = old there, new now`` for each dotted parameter that differs (new's order first)."""
-    a, b = _flatten(old), _flatten(new)
+    a, b = flatten(old), flatten(new)
     names = list(b) + [k for k in a if k not in b]
     out = []
     for k in names:

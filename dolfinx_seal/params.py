@@ -543,6 +543,18 @@ def parse_overrides(items: Iterable[str]) -> dict[str, Any]:
     return out
 
 
+def flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Nested tables to dotted keys (``{"material": {"E": 1}}`` -> ``{"material.E": 1}``)."""
+    out: dict[str, Any] = {}
+    for k, v in d.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out.update(flatten(v, name + "."))
+        else:
+            out[name] = v
+    return out
+
+
 def merge(base: Mapping[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
     """Recursive merge of two nested mappings (``over`` wins)."""
     out = dict(base)

@@ -73,6 +73,7 @@ from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.output import Progress, SweepWriter, write_results, write_text_atomic
+from dolfinx_seal.params import flatten
 
 #: Where the tables of the scenes live (``studies/stability/SCENE.toml``).
 TABLES = Path(__file__).resolve().parents[1] / "studies" / "stability"
@@ -151,18 +152,6 @@ class Table:
         return [c for c in self.cases if c.name in wanted]
 
 
-def _flat(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
-    """Nested tables to dotted keys (``{"material": {"E": 1}}`` -> ``{"material.E": 1}``)."""
-    out: dict[str, Any] = {}
-    for k, v in d.items():
-        key = f"{prefix}{k}"
-        if isinstance(v, Mapping):
-            out.update(_flat(v, key + "."))
-        else:
-            out[key] = v
-    return out
-
-
 def _values(where: str, v: Any) -> tuple[float, ...]:
     if isinstance(v, str):
         return tuple(scenes.parse_values(v)) if v.strip() else ()
@@ -219,7 +208,7 @@ def read_table(path: str | Path) -> Table:
         if expect not in ("", "refused"):
             raise ParameterError(f"{where}: expect = {expect!r} is not one of ['', 'refused']")
         cases.append(Case(name=c["name"], about=str(c.get("about", "")),
-                          settings=_flat(c.get("set", {})), over=over,
+                          settings=flatten(c.get("set", {})), over=over,
                           values=values if over else (), time_budget=float(budget),
                           expect=expect))  # fmt: skip
     if not cases:
@@ -228,7 +217,7 @@ def read_table(path: str | Path) -> Table:
     slugs = [c.slug for c in cases]
     if len(set(names)) < len(names) or len(set(slugs)) < len(slugs):
         raise ParameterError(f"{path}: case names (and their folder slugs) must be unique")
-    table = Table(scene=scene, path=path, parameters=_flat(data.get("parameters", {})),
+    table = Table(scene=scene, path=path, parameters=flatten(data.get("parameters", {})),
                   cases=tuple(cases))  # fmt: skip
     check_table(table)
     return table
