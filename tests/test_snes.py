@@ -11,7 +11,7 @@ import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from dolfinx_seal.errors import SolverError
+from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.solvers import NonlinearSolver, SNESOptions, bounds_function
 
 
@@ -166,6 +166,60 @@ def test_penalty_then_vi_matches_plain_vi():
     assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
     s1.destroy()
     s2.destroy()
+
+
+def _lu_count() -> int:
+    return int(PETSc.Log.Event("MatLUFactorNum").getPerfInfo()["count"])
+
+
+def test_semismooth_fixed_pattern_matches_the_reduced_space_vi():
+    """The wrapper's own semismooth Newton (identity rows written into the fixed
+    pattern) reaches the reduced-space VI's solution, which is the exact one to the
+    discretisation error, with the same complementarity."""
+    s1, u1 = _string_on_obstacle(MPI.COMM_WORLD)
+    s1.solve()
+    s2, u2 = _string_on_obstacle(MPI.COMM_WORLD, options=SNESOptions(snes_type="semismooth"))
+    h = s2.solve()
+    assert s2.snes.getType() == "newtonls"
+    assert h.complementarity <= 1e-9
+    assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
+    s1.destroy()
+    s2.destroy()
+
+
+def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
+    """factor_reuse_its: GMRES preconditioned by the first factorisation across the
+    Newton steps and into a second solve (a moved obstacle, as in continuation)."""
+    PETSc.Log.begin()
+    opts = SNESOptions(snes_type="semismooth", factor_reuse_its=20)
+    s1, u1 = _string_on_obstacle(MPI.COMM_WORLD)
+    s2, u2 = _string_on_obstacle(MPI.COMM_WORLD, options=opts)
+    s1.solve()
+    n0 = _lu_count()
+    h = s2.solve()
+    assert s2.snes.getKSP().getType() == "gmres"
+    assert h.newton_iterations >= 2 and h.complementarity <= 1e-9
+    assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
+    # one factorisation, plus one per rebuild after a slow linear solve
+    assert _lu_count() - n0 == 1 + s2.factor_rebuilds < h.newton_iterations + 1
+    for s in (s1, s2):  # a higher obstacle: both solve again from their solution
+        lower = s.xl.getArray(readonly=False)
+        lower[np.isfinite(lower)] += 0.01
+        del lower
+    s1.solve()
+    n1, r1 = _lu_count(), s2.factor_rebuilds
+    h = s2.solve()
+    assert h.complementarity <= 1e-9
+    # the kept factorisation carries over: a new one only after a slow linear solve
+    assert _lu_count() - n1 == s2.factor_rebuilds - r1 < h.newton_iterations
+    assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
+    s1.destroy()
+    s2.destroy()
+
+
+def test_kept_factorisation_is_refused_where_the_pattern_changes():
+    with pytest.raises(ParameterError, match="factor_reuse_its = 5 needs a fixed matrix pattern"):
+        SNESOptions(snes_type="vinewtonrsls", factor_reuse_its=5)
 
 
 def test_bounds_on_a_subspace_of_a_mixed_space():

@@ -6,7 +6,12 @@ from dolfinx_seal.solvers.assembly import (
     PlainAssembly,
     add_rotational_periodic_constraint,
 )
-from dolfinx_seal.solvers.snes import NonlinearSolver, SNESOptions, bounds_function
+from dolfinx_seal.solvers.snes import (
+    NonlinearSolver,
+    SNESOptions,
+    bounds_function,
+    extra_petsc_options,
+)
 
 __all__ = [
     "Assembly",
@@ -16,4 +21,5 @@ __all__ = [
     "SNESOptions",
     "add_rotational_periodic_constraint",
     "bounds_function",
+    "extra_petsc_options",
 ]

@@ -32,9 +32,10 @@ with MUMPS.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -55,6 +56,30 @@ _NEWTON_LOG = get_logger("dolfinx_seal.newton")
 _counter = itertools.count()
 
 _VI_TYPES = ("vinewtonrsls", "vinewtonssls")
+#: the bounded types: PETSc's VI solvers and the wrapper's own fixed-pattern one
+_BOUNDED_TYPES = (*_VI_TYPES, "semismooth")
+
+#: PETSc options (without prefix) given to every solver created inside
+#: :func:`extra_petsc_options`; a solver's own ``petsc_options`` win over them
+_SESSION_OPTIONS: list[dict[str, Any]] = []
+
+
+@contextlib.contextmanager
+def extra_petsc_options(options: Mapping[str, Any]) -> Iterator[None]:
+    """Give PETSc ``options`` (keys without prefix, e.g. ``{"mat_mumps_icntl_7": 5}``
+    for the METIS ordering) to every :class:`NonlinearSolver` created inside the block.
+
+    The seam for solver studies (``bench/solver_levers.py``): the scenes build their
+    solvers deep inside, each with its own unique prefix, so a global
+    ``-mat_mumps_...`` option would not reach them.  The command line with a
+    solver's prefix still wins; the solver's own ``petsc_options`` win over these.
+    Nested blocks merge, the inner one winning.
+    """
+    _SESSION_OPTIONS.append(dict(options))
+    try:
+        yield
+    finally:
+        _SESSION_OPTIONS.pop()
 
 
 @dataclass
@@ -63,7 +88,12 @@ class SNESOptions:
 
     Attributes:
         snes_type: ``newtonls`` for equations; for problems with bounds the VI
-            types ``vinewtonrsls`` (reduced space, default) or ``vinewtonssls``.
+            types ``vinewtonrsls`` (reduced space, default) or ``vinewtonssls``, or
+            ``semismooth``: a semismooth Newton (PETSc ``newtonls``) on the natural
+            residual ``x - clip(x - F, l, u)``, whose rows at an active bound become
+            identity rows written into the matrix's own pattern, so the pattern never
+            changes (the factorisation's analysis is done once, and the
+            factorisation can be kept, see ``factor_reuse_its``).
         line_search: SNES line search (``basic`` is the safe choice with VIs).
         rtol: Relative residual tolerance, relative both to the first residual of a
             solve and to the forcing scale ``|F(0)|`` (see
@@ -85,6 +115,13 @@ class SNESOptions:
             its natural residual ``|x - P(x - F)|`` passes the same test.
         dtol: Divergence tolerance: stop when ``|F| > dtol |F_first|`` (stiff contact
             laws may raise the residual by many decades on the way to convergence).
+        factor_reuse_its: 0 (default): a new factorisation every Newton step
+            (``ksp_type``/``pc_type`` as given).  ``k > 0``: the factorisation is
+            kept as the right preconditioner of GMRES across Newton steps and
+            solves (continuation points), and rebuilt at the next Newton step
+            after a linear solve that took more than ``k`` iterations or failed.
+            Needs a fixed matrix pattern: ``newtonls`` or ``semismooth``.
+        linear_rtol: GMRES relative tolerance when ``factor_reuse_its > 0``.
         monitor: Print the residual at every Newton step (rank 0).
         error_on_failure: Raise :class:`SolverError` when SNES does not converge.
     """
@@ -100,11 +137,21 @@ class SNESOptions:
     factor_solver: str = "mumps"
     floor_rtol: float = 1e-6
     dtol: float = 1e4
+    factor_reuse_its: int = 0
+    linear_rtol: float = 1e-9
     monitor: bool = False
     error_on_failure: bool = True
 
     def __post_init__(self) -> None:
-        check_choice("snes_type", self.snes_type, ("newtonls", *_VI_TYPES))
+        check_choice("snes_type", self.snes_type, ("newtonls", *_BOUNDED_TYPES))
+        check_int_range("factor_reuse_its", self.factor_reuse_its, 0)
+        if self.factor_reuse_its and self.snes_type in _VI_TYPES:
+            raise ParameterError(
+                f"factor_reuse_its = {self.factor_reuse_its} needs a fixed matrix pattern: "
+                f"snes_type 'newtonls' or 'semismooth', not '{self.snes_type}' (its reduced "
+                "or rescaled matrix changes every step)"
+            )
+        check_positive("linear_rtol", self.linear_rtol)
         check_choice("line_search", self.line_search, ("basic", "bt", "l2", "cp", "nleqerr"))
         check_positive("rtol", self.rtol)
         check_positive("atol", self.atol)
@@ -223,10 +270,19 @@ class NonlinearSolver:
         if self.has_bounds:
             self.xl = self._bound_vector(lower, PETSc.NINFINITY)
             self.xu = self._bound_vector(upper, PETSc.INFINITY)
-            if self.options.snes_type not in _VI_TYPES:
+            if self.options.snes_type not in _BOUNDED_TYPES:
                 self.options = _replace(self.options, snes_type="vinewtonrsls")
+        self._ssn = self.has_bounds and self.options.snes_type == "semismooth"
+        self._ssn_on = False  # the natural-residual rows, only inside the main SNES solve
+        self._main_solve = False  # inside SNESSolve of the main SNES
+        self._ssn_point: np.ndarray | None = None  # where the active rows were found
+        self._ssn_rows = np.zeros(0, dtype=np.int32)  # owned rows at an active bound
+        self.factor_rebuilds = 0  # factorisations kept (factor_reuse_its > 0): rebuilds
+        if self._ssn:  # identity rows written into the assembled pattern
+            self.A.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
         self._diag = self.b.duplicate()
-        self._extra_options = dict(petsc_options or {})
+        self._extra_options = {k: v for d in _SESSION_OPTIONS for k, v in d.items()}
+        self._extra_options.update(petsc_options or {})
         self._own_options: list[str] = []  # global PETSc options entries this solver set
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
@@ -271,7 +327,7 @@ class NonlinearSolver:
         snes.setOptionsPrefix(prefix)
         opts = PETSc.Options()
         defaults = {
-            "snes_type": o.snes_type,
+            "snes_type": "newtonls" if o.snes_type == "semismooth" else o.snes_type,
             "snes_linesearch_type": o.line_search,
             "snes_rtol": o.rtol,
             "snes_atol": o.atol,
@@ -282,6 +338,18 @@ class NonlinearSolver:
         }
         if o.pc_type in ("lu", "cholesky"):
             defaults["pc_factor_mat_solver_type"] = o.factor_solver
+        if o.factor_reuse_its:
+            defaults.update({
+                "ksp_type": "gmres", "ksp_pc_side": "right", "ksp_rtol": o.linear_rtol,
+                "ksp_gmres_restart": 2 * o.factor_reuse_its + 10,
+                "ksp_max_it": 2 * o.factor_reuse_its + 10,
+                # a failed linear solve still gives a step (the line search judges it);
+                # the factorisation is rebuilt at the next Newton step
+                "snes_max_linear_solve_fail": o.max_it + 1,
+                # built once (-2: at the first Jacobian, then never), kept across steps and
+                # solves; _jacobian resets it after a slow linear solve
+                "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
+            })  # fmt: skip
         defaults.update(self._extra_options)
         for k, v in defaults.items():
             if not opts.hasName(prefix + k):  # the command line wins
@@ -289,7 +357,7 @@ class NonlinearSolver:
                 self._own_options.append(prefix + k)  # removed again by destroy()
         snes.setFunction(self._residual, self.b)
         snes.setJacobian(self._jacobian, self.A)
-        if bounded:
+        if bounded and o.snes_type in _VI_TYPES:
             snes.setVariableBounds(self.xl, self.xu)
         snes.setMonitor(self._monitor)
         if self.step_limiter is not None or self._homogenize:
@@ -315,12 +383,51 @@ class NonlinearSolver:
         self.assembly.residual(x, b)
         if self._penalty > 0.0:
             self._add_penalty_residual(x, b)
+        elif self._ssn_on:
+            self._natural_rows(x, b)
+
+    def _natural_rows(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
+        """Semismooth residual: ``F`` where ``l < x - F < u``, ``x - l`` (``x - u``)
+        where ``x - F`` is below (above) the bound; remembers those active rows."""
+        xa = x.getArray(readonly=True)
+        fa = b.getArray(readonly=False)
+        lo = self.xl.getArray(readonly=True)
+        hi = self.xu.getArray(readonly=True)
+        trial = xa - fa
+        below = trial < lo
+        above = trial > hi
+        fa[below] = xa[below] - lo[below]
+        fa[above] = xa[above] - hi[above]
+        del fa
+        self._ssn_rows = np.flatnonzero(below | above).astype(np.int32)
+        self._ssn_point = xa.copy()
 
     def _jacobian(self, snes: PETSc.SNES, x: PETSc.Vec, A: PETSc.Mat, P: PETSc.Mat) -> None:
         self._to_functions(x)
         self.assembly.jacobian(A)
         if self._penalty > 0.0:
             self._add_penalty_jacobian(x, A)
+        elif self._ssn_on:
+            if self._ssn_point is None or not np.array_equal(
+                self._ssn_point, x.getArray(readonly=True)
+            ):  # the active rows of this point
+                work = self.b.duplicate()
+                self._residual(snes, x, work)
+                work.destroy()
+            start = A.getOwnershipRange()[0]
+            A.zeroRows(self._ssn_rows + start, diag=1.0)  # collective; keeps the pattern
+        if self.options.factor_reuse_its and self._main_solve:  # a linear solve follows
+            self._maybe_rebuild_factorisation(snes)
+
+    def _maybe_rebuild_factorisation(self, snes: PETSc.SNES) -> None:
+        """Rebuild the kept factorisation after a slow or failed linear solve."""
+        ksp = snes.getKSP()
+        reason = int(ksp.getConvergedReason())  # 0 before the first linear solve
+        slow = ksp.getIterationNumber() > self.options.factor_reuse_its
+        rebuild = reason != 0 and (slow or reason < 0)
+        if rebuild:  # the SNES lags the preconditioner forever (-1): start it afresh
+            ksp.getPC().reset()
+            self.factor_rebuilds += 1
 
     def _monitor(self, snes: PETSc.SNES, it: int, fnorm: float) -> None:
         self.history.residual_norms.append(float(fnorm))
@@ -432,10 +539,15 @@ class NonlinearSolver:
 
     def set_snes_type(self, snes_type: str) -> None:
         """Switch the SNES type (e.g. ``vinewtonrsls`` <-> ``vinewtonssls``) in place."""
-        check_choice("snes_type", snes_type, ("newtonls", *_VI_TYPES))
+        check_choice("snes_type", snes_type, ("newtonls", *_BOUNDED_TYPES))
         self.options = _replace(self.options, snes_type=snes_type)
         # a new SNES: the KSP of a reduced-space VI keeps the reduced operator's size
-        PETSc.Options()[self.prefix + "snes_type"] = snes_type
+        PETSc.Options()[self.prefix + "snes_type"] = (
+            "newtonls" if snes_type == "semismooth" else snes_type
+        )
+        self._ssn = self.has_bounds and snes_type == "semismooth"
+        if self._ssn:
+            self.A.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
         self._snes.destroy()
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
 
@@ -472,6 +584,9 @@ class NonlinearSolver:
             np.clip(arr, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True), out=arr)
             del arr
         t0 = time.perf_counter()
+        self._main_solve = snes is self._snes
+        self._ssn_on = self._ssn and self._penalty == 0.0 and self._main_solve
+        self._ssn_point = None
         try:
             snes.solve(None, self.x)
         except PETSc.Error as e:  # e.g. a factorisation failing on a non-finite matrix
@@ -482,6 +597,8 @@ class NonlinearSolver:
             )
             self._rebuild_after_petsc_error(snes)  # destroys ``snes``: read it before
             raise SolverError(what, where=where, history=self.history) from e
+        finally:
+            self._ssn_on = self._main_solve = False
         self.wall_time = time.perf_counter() - t0
         self._to_functions(self.x)
         reason = snes.getConvergedReason()
@@ -679,4 +796,4 @@ def _reason_name(reason: int) -> str:
     return str(reason)
 
 
-__all__ = ["NonlinearSolver", "SNESOptions", "bounds_function"]
+__all__ = ["NonlinearSolver", "SNESOptions", "bounds_function", "extra_petsc_options"]

@@ -1,0 +1,140 @@
+"""Benchmark (issue 18): what the linear-solver levers do to a ball Stribeck sweep.
+
+The demo system (S1 figure 18: R = 1 cm, F = 1.3 N, E* = 1.6 MPa, eta = 0.1 Pa s,
+h_rms = 1 um), the demo mesh (contact elements a_Hertz / 15), the first
+``--points`` speeds of the 30-speed sweep from 1 to 0.01 m/s (equal ratios), run
+once per lever.  A lever is a set of PETSc options given to every solver of the
+scene (:func:`dolfinx_seal.solvers.extra_petsc_options`): the MUMPS ordering,
+block low-rank factorisation, ...  For each lever the run records, from PETSc's
+own event log (this rank's times), the time per Newton step of the Jacobian
+assembly, the symbolic (analysis) and numeric factorisations and the triangular
+solves, the Newton steps of each point, the wall time, and the largest relative
+difference of mu, h_central and h_min from the first lever (the baseline) at the
+same speeds.
+
+Writes ``<out>/solver_levers.csv`` (one row per lever) and prints a markdown
+table.  About 2 minutes per lever and 2 points on one core.
+
+Run:  scripts/dx python3 bench/solver_levers.py [--points 2] [--levers default metis ...]
+          [--out bench/results/solver_levers]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from petsc4py import PETSc
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from demos.ball_stribeck import parameters
+from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
+from dolfinx_seal.output import SweepWriter
+from dolfinx_seal.scenes import sweep_scene
+from dolfinx_seal.solvers import extra_petsc_options
+
+#: the levers: name -> PETSc options (without prefix) for every solver of the scene
+LEVERS: dict[str, dict[str, Any]] = {
+    "default": {},  # MUMPS with its automatic ordering choice (ICNTL(7) = 7)
+    "metis": {"mat_mumps_icntl_7": 5},
+    "scotch": {"mat_mumps_icntl_7": 3},
+    "pord": {"mat_mumps_icntl_7": 4},
+    "amd": {"mat_mumps_icntl_7": 0},
+    # block low-rank factorisation, compression threshold 1e-8 (a direct solve to
+    # about that accuracy: Newton then converges linearly at that rate at worst)
+    "blr": {"mat_mumps_icntl_35": 1, "mat_mumps_cntl_7": 1e-8},
+}
+
+EVENTS = {
+    "jacobian": "SNESJacobianEval",
+    "residual": "SNESFunctionEval",
+    "analysis": "MatLUFactorSym",
+    "factorisation": "MatLUFactorNum",
+    "solve": "MatSolve",
+}
+
+
+def _events() -> dict[str, tuple[int, float]]:
+    out = {}
+    for key, name in EVENTS.items():
+        info = PETSc.Log.Event(name).getPerfInfo()
+        out[key] = (int(info["count"]), float(info["time"]))
+    return out
+
+
+def run_lever(name: str, options: dict[str, Any], speeds: list[float], out: Path) -> dict:
+    """One sweep with ``options``; returns its row (times per step from this rank)."""
+    p = parameters(15.0, roughness={"h_rms": 1e-6})
+    before = _events()
+    t0 = time.perf_counter()
+    with extra_petsc_options(options):
+        rows = sweep_scene("ball", p, out / name, "film.speed", speeds, force=True)
+    wall = time.perf_counter() - t0
+    after = _events()
+    steps = after["jacobian"][0] - before["jacobian"][0]
+    row: dict[str, Any] = {
+        "lever": name,
+        "options": " ".join(f"-{k} {v}" for k, v in options.items()) or "(none)",
+        "ranks": COMM_WORLD.size,
+        "points": len(rows),
+        "dofs": int(rows[0]["dofs"]) if rows else 0,
+        "newton_steps": ";".join(str(r["newton_iterations"]) for r in rows),
+        "jacobians": steps,
+        "factorisations": after["factorisation"][0] - before["factorisation"][0],
+        "analyses": after["analysis"][0] - before["analysis"][0],
+        "wall_s": wall,
+        "first_point_s": float(rows[0]["wall_time_s"]) if rows else float("nan"),
+        "later_points_s": float(np.mean([float(r["wall_time_s"]) for r in rows[1:]]))
+        if len(rows) > 1
+        else float("nan"),
+    }
+    for key in EVENTS:
+        n = max(after[key][0] - before[key][0], 1)
+        row[f"{key}_s_each"] = (after[key][1] - before[key][1]) / n
+    row["_rows"] = rows
+    return row
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=2, help="speeds of the 30 (from 1 m/s)")
+    parser.add_argument("--levers", nargs="+", default=list(LEVERS), choices=list(LEVERS))
+    parser.add_argument("--out", default="bench/results/solver_levers")
+    args = parser.parse_args(argv)
+    PETSc.Log.begin()  # before any solve: the events are counted from here
+    out = bcast_path(args.out)
+    speeds = [float(v) for v in np.logspace(0.0, -2.0, 30)[: args.points]]
+    results = [run_lever(name, LEVERS[name], speeds, out) for name in args.levers]
+    base = {float(r["speed"]): r for r in results[0].pop("_rows")}
+    writer = SweepWriter(out, "solver_levers.csv")
+    for res in results[1:] + [results[0]]:
+        rows = res.pop("_rows", None)
+        diff = 0.0
+        for r in rows or []:
+            b = base.get(float(r["speed"]))
+            if b is None:
+                continue
+            for key in ("mu", "h_central", "h_min"):
+                diff = max(diff, abs(float(r[key]) / float(b[key]) - 1.0))
+        res["max_rel_diff_vs_first"] = diff
+    for res in results:
+        writer.append(res)
+    print0("| lever | points | Newton steps | jac [s] | analysis [s] | factor [s] | "
+           "solve [s] | point 1 [s] | later [s] | rel diff |")  # fmt: skip
+    print0("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    for r in results:
+        print0(f"| {r['lever']} | {r['points']} | {r['newton_steps']} | "
+               f"{r['jacobian_s_each']:.2f} | {r['analysis_s_each']:.2f} | "
+               f"{r['factorisation_s_each']:.2f} | {r['solve_s_each']:.3f} | "
+               f"{r['first_point_s']:.1f} | {r['later_points_s']:.1f} | "
+               f"{r['max_rel_diff_vs_first']:.1e} |")  # fmt: skip
+    print0(f"written: {out / 'solver_levers.csv'}")
+
+
+if __name__ == "__main__":
+    main()
