@@ -19,6 +19,10 @@
   assembly by default, or dolfinx_mpc assembly with multi-point constraints
   (periodicity, also with rotation of a vector field); the constraints' slave
   dofs are never bounded and their Newton update is zeroed;
+* an opt-in fixed-pattern VI solver (``snes_type = "semismooth"``: identity rows
+  at active bounds written into the matrix's own pattern) and, with it, a kept
+  factorisation as GMRES's preconditioner (``factor_reuse_its``), rebuilt only
+  after a slow linear solve (issue 18; the default is unchanged);
 * a penalty warm start for VIs (:meth:`NonlinearSolver.solve_penalty`): the
   bounds are first enforced by a dof-wise penalty ``kappa_i min(x_i - l_i, 0)``
   with ``kappa_i`` a multiple of the Jacobian diagonal, stepped up by decades
