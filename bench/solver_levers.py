@@ -112,7 +112,7 @@ def main(argv: list[str] | None = None) -> None:
     results = [run_lever(name, LEVERS[name], speeds, out) for name in args.levers]
     base = {float(r["speed"]): r for r in results[0].pop("_rows")}
     writer = SweepWriter(out, "solver_levers.csv")
-    for res in results[1:] + [results[0]]:
+    for res in [*results[1:], results[0]]:
         rows = res.pop("_rows", None)
         diff = 0.0
         for r in rows or []:

@@ -57,7 +57,7 @@ REASON = {
     # CONVERGED_FNORM_ABS with |F| = 0 on an all-NaN residual, which the solver's
     # complementarity check then refuses ("... complementarity residual is nan")
     "nan": r"DIVERGED_FNORM_NAN|complementarity residual is nan",
-    "linear": r"(?i)linear[ _]solve",
+    "linear": r"(?i)linear[ _]solve.*MUMPS INFOG\(1\) = -\d+",
     "diverge": "DIVERGED_DTOL",
 }
 

@@ -121,6 +121,24 @@ class ViscoelasticParams:
         check_positive("material.t_ref", self.t_ref, "K")
         check_positive("material.temperature", self.temperature, "K")
         check_choice("material.shift", self.shift, ("wlf", "arrhenius"))
+        check_positive("material.c1", self.c1)
+        check_positive("material.c2", self.c2, "K")
+        check_positive("material.activation_energy", self.activation_energy, "J/mol")
+        if not isinstance(self.file, str):
+            raise ParameterError(
+                f"material.file must be a string, got {self.file!r}", "material.file"
+            )
+        moduli, times = tuple(self.prony_moduli), tuple(self.prony_times)
+        for i, v in enumerate(moduli):
+            check_positive(f"material.prony_moduli[{i}]", v, "Pa")
+        for i, v in enumerate(times):
+            check_positive(f"material.prony_times[{i}]", v, "s")
+        if len(moduli) != len(times) or not moduli:
+            raise ParameterError(
+                f"material.prony_moduli ({len(moduli)} values) and material.prony_times "
+                f"({len(times)} values) must be non-empty and of the same length",
+                "material.prony_moduli",
+            )
         if self.model == "master" and not self.file:
             raise ParameterError(
                 "material.model = 'master' needs material.file (omega, E', E'' table)"

@@ -617,6 +617,7 @@ class NonlinearSolver:
                 f"after {its} Newton steps"
             )
             if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE:
+                what += f" ({_linear_failure(snes)})"
                 # a failed factorisation leaves the preconditioner failed for later solves
                 self._rebuild_after_petsc_error(snes)  # destroys ``snes``: read it before
             if self.options.error_on_failure:
@@ -791,6 +792,34 @@ def _mpi_max() -> Any:
     from mpi4py import MPI
 
     return MPI.MAX
+
+
+def _named(enum: Any, value: int) -> str:
+    for k, v in vars(enum).items():
+        if not k.startswith("_") and v == value:
+            return k
+    return str(value)
+
+
+def _linear_failure(snes: PETSc.SNES) -> str:
+    """What failed in the last linear solve: the KSP reason, the preconditioner's
+    failure and, for MUMPS, INFOG(1) and INFOG(2) (the MUMPS error code and its
+    detail: -9 or -8 too little workspace, -10 a numerically singular matrix;
+    the same on every rank)."""
+    parts = []
+    with contextlib.suppress(Exception):
+        ksp = snes.getKSP()
+        parts.append("KSP " + _named(PETSc.KSP.ConvergedReason, int(ksp.getConvergedReason())))
+        pc = ksp.getPC()
+        with contextlib.suppress(Exception):
+            parts.append("PC " + _named(PETSc.PC.FailedReason, int(pc.getFailedReason())))
+        with contextlib.suppress(Exception):
+            F = pc.getFactorMatrix()
+            if F.getType() == "mumps":
+                parts.append(
+                    f"MUMPS INFOG(1) = {F.getMumpsInfog(1)}, INFOG(2) = {F.getMumpsInfog(2)}"
+                )
+    return "; ".join(parts) or "no detail from the linear solver"
 
 
 def _reason_name(reason: int) -> str:
