@@ -41,8 +41,9 @@ Point statuses:
     skipped by design: after ``stepping.max_failures`` consecutive failures, or
     once the case's time budget was spent;
 ``suspect``
-    converged, but to a state that is not physical (a negative film thickness
-    ``h_min``), with the reason;
+    converged, but to a state outside the model: a film thinner than a continuum
+    film (``h_min`` below :data:`~dolfinx_seal.film.surface.CONTINUUM_FILM`, 2 nm,
+    or negative), with the reason;
 ``refused``
     the input checks refused the case before anything was assembled (a case
     marked ``expect = "refused"``: physics says there is no solution);
@@ -71,6 +72,7 @@ from typing import Any
 from dolfinx_seal import params as _params
 from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.film.surface import CONTINUUM_FILM
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.output import Progress, SweepWriter, write_results, write_text_atomic
 from dolfinx_seal.params import flatten
@@ -284,9 +286,12 @@ def _point_row(case: Case, value: Any, status: str, res: Mapping[str, Any] | Non
         if bad:
             row["status"] = "nan"
             error = f"not finite: {', '.join(bad)}"
-        elif isinstance(res.get("h_min"), float) and res["h_min"] < 0.0:
+        elif isinstance(res.get("h_min"), float) and res["h_min"] < CONTINUUM_FILM:
             row["status"] = "suspect"
-            error = f"converged to a negative film thickness: h_min = {res['h_min']:.3g} m"
+            error = (
+                f"converged to a film thinner than a continuum film ({CONTINUUM_FILM:.0e} m): "
+                f"h_min = {res['h_min']:.3g} m"
+            )
     row["error"] = " ".join(error.split())
     return row
 

@@ -263,6 +263,9 @@ def test_a_converged_point_that_is_not_finite_or_physical_is_flagged():
     ok = stability._point_row(case, 1.0, "converged", {"mu": 0.1, "h_min": 1e-7})
     nan = stability._point_row(case, 1.0, "converged", {"mu": math.nan, "h_min": 1e-7})
     neg = stability._point_row(case, 1.0, "converged", {"mu": 0.1, "h_min": -1.2e-9})
+    thin = stability._point_row(case, 1.0, "converged", {"mu": 0.1, "h_min": 0.4e-9})
     assert (ok["status"], ok["error"]) == ("converged", "")
     assert nan["status"] == "nan" and "mu" in nan["error"]
-    assert neg["status"] == "suspect" and "negative film thickness" in neg["error"]
+    for r, h in ((neg, "-1.2e-09"), (thin, "4e-10")):  # below a continuum film (2 nm)
+        assert r["status"] == "suspect" and "thinner than a continuum film" in r["error"]
+        assert f"h_min = {h} m" in r["error"], r["error"]

@@ -76,6 +76,12 @@ from dolfinx_seal.surface.state import SurfaceState
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
 FLOW_FACTORS = ("none", "patir-cheng", "persson")
 ACTIVE_TOLERANCE = 1e-8  # scaled pressure at or below which a film node is on its bound (PETSc VI)
+#: Thinnest film [m] a continuum Reynolds film describes: about three to five
+#: molecular layers of a mineral oil.  Below it the viscous (Couette) shear
+#: ``eta U / u`` and the flow ``u^3`` are outside the model (boundary lubrication):
+#: a converged film thinner than this is reported (``film_below_continuum``) and
+#: a stability study marks the point ``suspect``.
+CONTINUUM_FILM = 2e-9
 
 
 @dataclass(frozen=True)
@@ -147,8 +153,13 @@ class FilmScales:
     element: float
 
 
-def pressure_flow_factor(model: str, gap: Any, h_rms: float, table: Any = None) -> Any:
+def pressure_flow_factor(
+    model: str, gap: Any, h_rms: Any, table: Any = None, scale: Any = 1.0
+) -> Any:
     """Pressure flow factor ``phi_p`` of the averaged Reynolds equation (UFL).
+
+    ``scale``: amplitude scale of the roughness the ``table`` was made for (its
+    factor at scale ``s`` is ``phi(u / s)``).
 
     ``patir-cheng``: ``1 - 0.90 exp(-0.56 g / h_rms)`` (Patir & Cheng 1978,
     isotropic roughness; the same fit as
@@ -163,7 +174,7 @@ def pressure_flow_factor(model: str, gap: Any, h_rms: float, table: Any = None) 
     if model == "persson":
         if table is None:
             raise ParameterError("film.flow_factor = 'persson' needs the roughness spectrum")
-        H = gap / table.h_rms
+        H = gap / (table.h_rms * scale)
         s = ufl.ln(H)
         expr = 1.0 - table.c_tail / (H * H)
         for j in range(table.s.size - 2, -1, -1):
@@ -243,8 +254,11 @@ class SurfaceFilm:
         nanson = tractions.nanson_normal(ctx.F, ctx.N3)
         self.da = ufl.sqrt(ufl.dot(nanson, nanson)) * ctx.weight  # da / dA
         self.n = nanson / ufl.sqrt(ufl.dot(nanson, nanson))
-        self.g = ufl.max_value(ctx.gap, pr.gap_floor * self.h_rms)
-        phi_p = pressure_flow_factor(pr.flow_factor, self.g, self.h_rms, self.flow_table)
+        self.scale = ctx.roughness_scale  # homogenised roughness amplitude (homotopy)
+        self.g = ufl.max_value(ctx.gap, pr.gap_floor * self.h_rms * self.scale)
+        phi_p = pressure_flow_factor(
+            pr.flow_factor, self.g, self.h_rms * self.scale, self.flow_table, self.scale
+        )
         # homotopy weight of the flow factor (1: phi_p; 0: smooth walls), for starts
         self.flow_factor_weight = dolfinx.fem.Constant(mesh, 1.0)
         if pr.flow_factor != "none":
@@ -536,7 +550,7 @@ class SurfaceFilm:
             or self.params.asperity_shear == 0
         ):
             return 0.0
-        A = area_fraction(self.p_cont, self.e_star, self.rms_slope)
+        A = area_fraction(self.p_cont, self.e_star, self.rms_slope, self.scale)
         return self.direction * self.params.asperity_shear * A
 
     def friction_parts(self) -> dict[str, Any]:

@@ -59,7 +59,7 @@ import numpy as np
 from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
 from dolfinx_seal.coupled.results import complementarity_of, write_fields
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
+from dolfinx_seal.film.surface import CONTINUUM_FILM, FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.mpi import COMM_WORLD, get_logger
 from dolfinx_seal.output import write_sweep_failures
 from dolfinx_seal.params import check_choice, check_positive, check_range
@@ -165,12 +165,18 @@ class LubricatedLip:
         face_pressures: Constants of the sealed oil and air pressures on the free
             faces [Pa] (``face_pressure = true``), else None.
         film_only: The frozen-geometry film solver (``feedback = false``), else None.
+        rough_start: Roughness scale the coupled problem starts at (a stroking rod
+            smoother than :data:`~dolfinx_seal.scenes.lip_install.INSTALL_H_RMS`:
+            pressurised and brought to speed at the installation's rough scale,
+            where the film forms from a mixed start, then walked to its own
+            roughness; 1: no walk).
     """
 
     problem: SolidContactProblem
     install: Any
     face_pressures: tuple[Any, Any] | None = None
     film_only: Any = None
+    rough_start: float = 1.0
 
     def destroy(self) -> None:
         """Free the PETSc objects of the coupled and the film-only solvers (collective)."""
@@ -251,14 +257,16 @@ def build(params: LipParameters) -> LubricatedLip:
         max_step=None if fp.speed == 0.0 or params.motion == "rotary" else 0.2 * width,
     )  # fmt: skip
     prob.spring_fraction = 1.0
-    prob.w.x.array[:] = dry.w.x.array
+    rough = inst.rough_scale if axial and inst.rough_state is not None else 1.0
+    prob.w.x.array[:] = dry.w.x.array if rough == 1.0 else inst.rough_state[0]
     prob.w.x.scatter_forward()
+    prob.roughness_scale.value = rough
     prob.set_fraction(1.0)
     film.set_edge_pressures(0.0, 0.0)  # start from zero sealed pressures
     film.restrict_to_gap(params.zone_gap * params.roughness.h_rms, [prob.solver])
     if film.has_transport:  # pressurise at a slow start speed; solve_speed walks up from it
         film.set_speed(start_speed(params.film.speed))
-    out = LubricatedLip(prob, inst, faces)
+    out = LubricatedLip(prob, inst, faces, rough_start=rough)
     if not params.feedback:
         out.film_only = film.make_solver(
             dataclasses.replace(prob.solver.options, snes_type=snes_type), name="lip film"
@@ -335,6 +343,8 @@ def solve_speed(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
             )
         its += recs[-1].newton_iterations
         steps += recs[-1].steps
+    if lub.rough_start != 1.0 and float(prob.roughness_scale.value) != 1.0:
+        its += prob.walk_roughness(lub.rough_start)  # at speed: the film keeps the lip off
     return {"newton_iterations": its, "continuation_steps": steps,
             "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
@@ -399,6 +409,15 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
         "ranks": COMM_WORLD.size,
         **complementarity_of(prob),
     }
+    if out["h_min"] < CONTINUUM_FILM:
+        out["film_below_continuum"] = True
+        get_logger().warning(
+            "lip: the film is thinner than a continuum film (h_min %.3g m < %.0e m): the "
+            "seal is in (near) full asperity contact; the Couette shear eta U / u and "
+            "the friction it gives are outside the model",
+            out["h_min"],
+            CONTINUUM_FILM,
+        )
     if film.has_theta:
         cav = theta < 1.0 - 1e-8
         dz = np.gradient(z)

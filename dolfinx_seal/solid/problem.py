@@ -23,6 +23,7 @@ failed one, restoring the last converged state.
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -220,7 +221,12 @@ class SolidContactProblem:
 
         self.extra = None
         self.gap = counter.gap(self.x, self.position)
-        self.p_cont = contact_pressure(law, self.gap) if law is not None else None
+        # amplitude scale of the roughness in the asperity law (1: the law as given;
+        # walk_roughness walks it, the homotopy that installs a smooth surface)
+        self.roughness_scale = dolfinx.fem.Constant(mesh, 1.0)
+        self.p_cont = (
+            contact_pressure(law, self.gap, scale=self.roughness_scale) if law is not None else None
+        )
 
         # the lubricating film (optional): its unknowns, residuals and tractions
         self.film = film
@@ -230,6 +236,7 @@ class SolidContactProblem:
                     mesh, facet_tags, contact_tag, self.x, self.F, self.N3, self.weight,
                     self.gap, kinematics.vector3, self.e_n, counter.sliding_direction(self.x), sqd,
                     edge_axis=counter.edge_axis(), transport=counter.transports,
+                    roughness_scale=self.roughness_scale,
                 ),
                 p_cont=self.p_cont,
             )  # fmt: skip
@@ -463,6 +470,43 @@ class SolidContactProblem:
             history=res.last_error.history,
             partial={"fraction": t, "steps": list(self.steps)},
         ) from res.last_error
+
+    def walk_roughness(self, start: float, stepping: SteppingOptions | None = None) -> int:
+        """Walk the roughness amplitude scale of the asperity law from ``start`` to 1.
+
+        The current state must be converged with ``roughness_scale = start``.  A
+        smooth surface's law is stiff (its pressure changes by decades over a
+        fraction of a small ``h_rms``), so loading it from the unloaded body takes
+        hundreds of Newton steps or stalls; loaded at a rougher scale, the body is
+        already where the smooth one will be to within a few ``h_rms``, and the walk
+        in ``log s`` closes that last gap in a few steps.  Returns the Newton steps.
+
+        Raises:
+            SolverError: the walk stalled; ``partial`` holds the scale reached.
+        """
+        st = stepping or SteppingOptions(first=0.5, grow=2.0, easy=8, max_steps=60)
+        walk = AdaptiveWalk(
+            StepControl(first=min(st.first, abs(math.log10(start)) or 1.0), grow=st.grow,
+                        easy=st.easy, cut=st.cut, min_step=1e-3, max_attempts=st.max_steps),
+            lambda c: setattr(self.roughness_scale, "value", c),
+            lambda c: self.solver.solve(
+                where=f"{self.name} at roughness scale {c:.4g}").newton_iterations,
+            self.state, self.restore, coordinate=(math.log10, lambda c: 10.0**c),
+            on_accept=lambda c, its: progress_step(f"{self.name} roughness scale", c),
+            name=f"{self.name} roughness walk",
+        )  # fmt: skip
+        self.roughness_scale.value = start
+        res = walk.walk(start, 1.0)
+        if not res.converged:
+            self.roughness_scale.value = res.reached
+            raise SolverError(
+                f"roughness walk stalled: {res.error}",
+                where=f"{self.name}, from roughness scale {res.reached:.6g} towards 1",
+                history=res.last_error.history if res.last_error else None,
+                partial={"roughness_scale": res.reached},
+            )
+        self.roughness_scale.value = 1.0
+        return res.newton_iterations
 
     def _predict(self, history: Any, t: float) -> None:
         """Secant predictor in the load fraction."""

@@ -51,21 +51,30 @@ def _capped_exp(lnp: Any, ln_cap: float) -> Any:
     )
 
 
-def contact_pressure(law: Any, gap: Any, u_min: float = 0.02) -> Any:
+def contact_pressure(law: Any, gap: Any, u_min: float = 1e-3, scale: Any = 1.0) -> Any:
     """UFL expression of the asperity contact pressure [Pa] at gap ``gap`` [m].
 
     Args:
         law: A :class:`PerssonExponentialLaw` or :class:`ClosedFormPersson`.
         gap: UFL expression of the mean separation [m].
         u_min: Lower end of the window, in units of ``h_rms`` (closed form only).
+        scale: Amplitude scale ``s`` of the roughness (a float or a UFL
+            ``Constant``): the law of the surface whose heights are ``s`` times
+            the law's, ``p_s(u) = s p(u / s)``.  Linear-elastic contact of a
+            surface scaled in height by ``s`` has displacements scaled by ``s``
+            and stresses by ``s``, so this is exact for Persson's relation (its
+            fitted ``beta`` is proportional to ``h_rms`` at a fixed spectrum shape,
+            to 0.2 %); it is the homotopy that installs a smooth surface from a
+            rough one (:meth:`~dolfinx_seal.solid.problem.SolidContactProblem.walk_roughness`).
     """
+    ln_s = math.log(scale) if isinstance(scale, int | float) else ufl.ln(scale)
     if isinstance(law, PerssonExponentialLaw):
-        ln0 = math.log(law.beta * law.e_star)
-        lnp = ln0 - law.alpha * gap / law.h_rms
+        ln0 = math.log(law.beta * law.e_star) + ln_s
+        lnp = ln0 - law.alpha * gap / (law.h_rms * scale)
         return _capped_exp(lnp, math.log(CAP_FACTOR * law.e_star))
     if isinstance(law, ClosedFormPersson):
-        ln0 = math.log(law.beta * law.e_star)
-        x = gap / law.h_rms
+        ln0 = math.log(law.beta * law.e_star) + ln_s
+        x = gap / (law.h_rms * scale)
         xm = float(u_min)
 
         def lnp_of(xx: Any) -> Any:
@@ -96,14 +105,16 @@ def contact_pressure(law: Any, gap: Any, u_min: float = 0.02) -> Any:
     )
 
 
-def area_fraction(p: Any, e_star: float, rms_slope: float) -> Any:
+def area_fraction(p: Any, e_star: float, rms_slope: float, scale: Any = 1.0) -> Any:
     """Persson's real contact area ``A/A0 = erf(sqrt(2) p / (E* <|grad h|^2>^(1/2)))`` in UFL.
 
     Args:
         p: Nominal asperity pressure [Pa] (UFL).
         e_star: ``E*`` [Pa].
         rms_slope: ``<|grad h|^2>^(1/2)`` of the (homogenized) roughness [-].
+        scale: Amplitude scale of the roughness (float or UFL ``Constant``; see
+            :func:`contact_pressure`): the slope is ``scale * rms_slope``.
     """
     if not (math.isfinite(rms_slope) and rms_slope > 0):
         raise ParameterError(f"rms_slope = {rms_slope!r} must be positive for the contact area")
-    return ufl.erf(math.sqrt(2.0) * p / (e_star * rms_slope))
+    return ufl.erf(math.sqrt(2.0) * p / (e_star * rms_slope * scale))

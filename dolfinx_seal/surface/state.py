@@ -34,6 +34,11 @@ class SurfaceState:
             ``outlet_pressure`` on the high end (None: the sliding direction).  A
             seal's film has its oil side low and its air side high along the
             axis, whichever way the shaft moves.
+        roughness_scale: Amplitude scale of the homogenised roughness (a float or a
+            UFL ``Constant``; 1: as given): the asperity law, the flow factor, the
+            gap floor and the real contact area all follow it (a homotopy from a
+            rough to a smooth surface, exact for Persson's laws: ``p_s(u) = s p(u/s)``,
+            ``A_s(u) = A(u/s)``, ``phi_s(u) = phi(u/s)``).
         transport: Whether the sliding moves fluid across the lubricated zone (the
             Couette flux in the Reynolds equation).  False where the sliding is
             normal to every surface gradient (a turning shaft under an
@@ -55,6 +60,7 @@ class SurfaceState:
     quadrature_degree: int | None = None
     edge_axis: Any = None
     transport: bool = True
+    roughness_scale: Any = 1.0
 
 
 __all__ = ["SurfaceState"]
