@@ -367,8 +367,10 @@ def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = N
 class SweepWriter:
     """Append one CSV row per finished sweep point to ``sweep.csv`` (rank 0).
 
-    The header is the union of the keys of the first row; later rows may omit
-    keys (empty cell) but may not add new ones.  The file appears with the first
+    The header is the keys of the first row; later rows may omit keys (empty
+    cell), and a row with a new key extends the header: the file is rewritten
+    whole (atomically) with the new column, empty in the earlier rows, so no
+    value of any point is dropped.  The file appears with the first
     row (header and row written atomically); each later row is one whole line
     appended with one ``write`` call and fsynced, so finished points survive a
     later failure or a kill and the file never ends in a part of a row.
@@ -395,12 +397,19 @@ class SweepWriter:
         first = self.fields is None
         if first:
             self.fields = list(row.keys())
-        extra = set(row) - set(self.fields)
-        if extra:
-            raise ValueError(f"sweep row has keys not in the header: {sorted(extra)}")
+        extra = [k for k in row if k not in self.fields]
+        rewrite = first or bool(extra)
+        body = ""
+        if extra and self.path.is_file():  # earlier rows, under the extended header
+            with self.path.open(newline="") as fh:
+                old = list(csv.DictReader(fh))
+            self.fields += extra
+            body = "".join(_csv_line([r.get(k) or "" for k in self.fields]) for r in old)
+        elif extra:
+            self.fields += extra
         line = _csv_line([_fmt(row.get(k, "")) for k in self.fields])
-        if first:
-            write_text_atomic(self.path, _csv_line(self.fields) + line, newline="")
+        if rewrite:
+            write_text_atomic(self.path, _csv_line(self.fields) + body + line, newline="")
         else:
             _append_line(self.path, line.encode("utf-8"))
         if _ROW_LISTENERS:

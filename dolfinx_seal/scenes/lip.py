@@ -101,9 +101,11 @@ class LipParameters(LipInstallParameters):
             leakage of a rigid contact).
         stroke_length: Stroke L of a reciprocating rod [m] (per-cycle transport).
         zone_gap: The lubricated zone ends where the installed gap exceeds this
-            many h_rms [-] (beyond, the film is pinned at the sealed pressure of
-            its side: its conductance ~ g^3 makes the pressure drop there
-            negligible, and its rows would leave the narrow ones at round-off).
+            many film scales [-]: h_rms, or for a stroking rod the thicker film
+            inverse hydrodynamics predicts (:func:`film_scale`).  Beyond, the film
+            is pinned at the sealed pressure of its side: its conductance ~ g^3
+            makes the pressure drop there negligible, and its rows would leave the
+            narrow ones at round-off.
         stepping: Speed continuation options (reciprocating sweeps).
     """
 
@@ -131,7 +133,7 @@ class LipParameters(LipInstallParameters):
         check_range("oil_pressure", self.oil_pressure, 0.0, 5e6, unit="Pa")
         check_range("air_pressure", self.air_pressure, 0.0, 5e6, unit="Pa")
         check_positive("stroke_length", self.stroke_length, "m")
-        check_range("zone_gap", self.zone_gap, 2.0, 1e4, unit="h_rms")
+        check_range("zone_gap", self.zone_gap, 2.0, 1e4, unit="film scales")
         if self.motion == "rotary" and self.film.speed < 0.0:
             raise ParameterError(
                 f"film.speed = {self.film.speed!r} m/s: a rotary shaft speed is >= 0 "
@@ -215,9 +217,27 @@ def sealed_face_work(
     return -w
 
 
-def build(params: LipParameters) -> LubricatedLip:
+def film_scale(params: LipParameters, z: np.ndarray, p: np.ndarray, speed: float) -> float:
+    """The gap scale [m] of the lip's film: the rms roughness, or, for a rod stroking
+    at ``|speed|``, the thicker of it and the film inverse hydrodynamics predicts
+    from the dry contact pressure ``p(z)`` (Blok's ``h* = sqrt(8 eta U / (9 w))``,
+    the larger of the two stroke directions).  It sets where the lubricated zone
+    ends (``zone_gap`` times it: the zone must reach well beyond the film a
+    smooth rod carries, micrometres where its h_rms is tens of nanometres) and
+    the scale of the film's rows."""
+    from dolfinx_seal.verification.seal_leakage import ihl_film
+
+    h = params.roughness.build().h_rms()
+    if params.motion != "reciprocating" or speed == 0.0:
+        return h
+    return max(h, *(ihl_film(z, p, params.film.viscosity, s * abs(speed)) for s in (1.0, -1.0)))
+
+
+def build(params: LipParameters, speed_scale: float | None = None) -> LubricatedLip:
     """Install the lip dry, then build the coupled problem with the film on the
-    same mesh and start it from the installed state (sealed pressures at zero)."""
+    same mesh and start it from the installed state (sealed pressures at zero).
+    ``speed_scale`` [m/s]: the largest rod speed the problem will be solved at
+    (default ``|film.speed|``; it sets the film's scale, :func:`film_scale`)."""
     import dolfinx
 
     inst = install(params)
@@ -225,12 +245,15 @@ def build(params: LipParameters) -> LubricatedLip:
     lp = params.lip
     fp = film_parameters(params)
     _, p_pc = dry.surface_values(dry.p_cont, average=True)
+    _, z_pc = dry.surface_values(dry.x[1], average=True)
+    order = np.argsort(z_pc)
     width, _ = moment_width(dry)
     law = dry.law
+    speed = abs(params.film.speed) if speed_scale is None else abs(speed_scale)
+    gap_scale = film_scale(params, z_pc[order], p_pc[order], speed)
     scales = FilmScales(
-        pressure=float(p_pc.max()), length=0.5 * width, gap=params.roughness.h_rms,
-        element=lp.h_contact,
-    )  # fmt: skip
+        pressure=float(p_pc.max()), length=0.5 * width, gap=gap_scale, element=lp.h_contact
+    )
     film = SurfaceFilm(
         fp, scales, h_rms=params.roughness.h_rms, rms_slope=getattr(law, "rms_slope", math.nan),
         e_star=params.material.E_star,
@@ -263,7 +286,7 @@ def build(params: LipParameters) -> LubricatedLip:
     prob.roughness_scale.value = rough
     prob.set_fraction(1.0)
     film.set_edge_pressures(0.0, 0.0)  # start from zero sealed pressures
-    film.restrict_to_gap(params.zone_gap * params.roughness.h_rms, [prob.solver])
+    film.restrict_to_gap(params.zone_gap * gap_scale, [prob.solver])
     if film.has_transport:  # pressurise at a slow start speed; solve_speed walks up from it
         film.set_speed(start_speed(params.film.speed))
     out = LubricatedLip(prob, inst, faces, rough_start=rough)
@@ -376,11 +399,14 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
     z, gap, p, theta = vals["x"][:, 1], vals["gap"], vals["p"], vals["theta"]
     Xs, pc = _surface_by_z(prob, prob.p_cont)
     width, z_c = moment_width(prob)
-    i_peak = int(np.argmax(pc))
+    # the pressure that carries the lip: asperities and fluid (the peak and the band
+    # of a full film, where the asperity pressure vanishes)
+    band, z_band = moment_width(prob, fn + film.normal_force_integrand())
+    _, p_total = _surface_by_z(prob, prob.p_cont + film.p)
+    i_peak = int(np.argmax(p_total))
     z_peak = float(np.interp(Xs[i_peak, 1], vals["X"][:, 1], z))
     A = area_fraction(prob.p_cont, film.e_star, film.rms_slope)
     real = prob.integrate(A * film.da, ds)
-    nominal = 2.0 * math.pi * R_s * width
     out: dict[str, Any] = {
         "motion": params.motion,
         "speed": float(params.film.speed),
@@ -396,21 +422,24 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
         "load_contact": load_contact,
         "fluid_load_fraction": load_fluid / normal,
         "contact_width": width,
-        "z_contact_centre": z_c,
+        "load_band_width": band,
+        "z_load_centre": z_band,
         "z_peak_pressure": z_peak,
         "h_min": float(gap.min()),
         "h_central": float(np.interp(z_peak, z, gap)),
         "max_fluid_pressure": float(p.max()),
         "max_contact_pressure": float(pc.max()),
         "real_contact_area": real,
-        "contact_area_fraction": real / nominal,
+        # real over nominal area of the asperity band (0: no asperity contact)
+        "contact_area_fraction": real / (2.0 * math.pi * R_s * width) if width > 0 else 0.0,
         "dofs": prob.dofs,
         "dof_counts": prob.dof_counts(),
         "ranks": COMM_WORLD.size,
         **complementarity_of(prob),
     }
-    if out["h_min"] < CONTINUUM_FILM:
-        out["film_below_continuum"] = True
+    # a key of every point (a sweep's rows share one header)
+    out["film_below_continuum"] = bool(out["h_min"] < CONTINUUM_FILM)
+    if out["film_below_continuum"]:
         get_logger().warning(
             "lip: the film is thinner than a continuum film (h_min %.3g m < %.0e m): the "
             "seal is in (near) full asperity contact; the Couette shear eta U / u and "
@@ -418,6 +447,7 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
             out["h_min"],
             CONTINUUM_FILM,
         )
+    out["z_contact_centre"] = z_c if width > 0 else z_band  # the load's centre in full film
     if film.has_theta:
         cav = theta < 1.0 - 1e-8
         dz = np.gradient(z)
@@ -627,7 +657,9 @@ def sweep(
         chain = sorted((v for v in speeds if math.copysign(1.0, v) == sign and v != 0), key=abs)
         if not chain:
             continue
-        lub = build(set_parameter(params, "film.speed", chain[0]))
+        if smooth_rod(params):  # start where the film is thickest, walk down
+            chain.reverse()
+        lub = build(set_parameter(params, "film.speed", chain[0]), max(map(abs, chain)))
         try:
             _stroke_chain(lub, params, chain, out, rows, on_point, failed)
         finally:
@@ -639,11 +671,25 @@ def sweep(
     return rows
 
 
+def smooth_rod(params: LipParameters) -> bool:
+    """A stroking rod smoother than the installation roughness
+    (:data:`~dolfinx_seal.scenes.lip_install.INSTALL_H_RMS`): its chains start at
+    their fastest speed, where the film is thickest and the walk from the rough
+    scale to its own roughness is easy, and walk down.  (A rough rod's chains walk
+    up from the slowest: its mixed start is the cheap one.)  Started at the
+    slowest, the smooth rod's film formed a node-to-node wiggle at the outlet
+    and continued on a film half as thick as the one started at speed."""
+    from dolfinx_seal.scenes.lip_install import INSTALL_H_RMS
+
+    return (params.motion == "reciprocating" and params.contact.model != "stiff"
+            and params.roughness.build().h_rms() < INSTALL_H_RMS)  # fmt: skip
+
+
 def _stroke_chain(
     lub: LubricatedLip, params: LipParameters, chain: list[float], out: Path,
     rows: list[dict[str, Any]], on_point: Any, failed: list[dict[str, Any]],
 ) -> None:  # fmt: skip
-    """One stroke direction of a reciprocating sweep: pressurise, start at the slowest
+    """One stroke direction of a reciprocating sweep: pressurise, start at the first
     speed of ``chain``, continue through the others (rows appended as they converge;
     the targets not reached appended to ``failed`` with their reason)."""
     from dolfinx_seal.scenes import set_parameter

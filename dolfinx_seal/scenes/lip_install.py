@@ -435,17 +435,21 @@ def radial_balance(prob: SolidContactProblem, clamped: int) -> tuple[float, floa
     return out[0], out[1]
 
 
-def moment_width(prob: SolidContactProblem) -> tuple[float, float]:
-    """Contact width and centre from the moments of the radial contact force density.
+def moment_width(prob: SolidContactProblem, fn: Any = None) -> tuple[float, float]:
+    """Contact width and centre [m] from the moments of the radial contact force density.
 
     ``w = sqrt(12 <(z - <z>)^2>)``: the width of the uniform pressure band with the
     same force, centre and second moment (exact for a uniform band; a Hertz
     ellipse of half-width a gives ``w = 1.73 a``).  An integral, it converges with
-    the mesh where a threshold on nodal pressures does not.
+    the mesh where a threshold on nodal pressures does not.  ``fn``: another force
+    density (e.g. fluid + asperity); default the asperity contact's.  A band that
+    carries no force has width 0 and no centre (``nan``).
     """
-    fn = prob.asperity_force_integrand()
+    fn = prob.asperity_force_integrand() if fn is None else fn
     z = prob.x[1]
     m0 = prob.integrate(fn, prob.ds_c)
+    if m0 <= 0.0:
+        return 0.0, math.nan
     m1 = prob.integrate(fn * z, prob.ds_c) / m0
     var = prob.integrate(fn * (z - m1) ** 2, prob.ds_c) / m0  # centred: no cancellation
     return math.sqrt(12.0 * var), m1

@@ -109,3 +109,20 @@ def test_sweep_writer_appends_rows(mpi_tmp_path):
     p = write_results(mpi_tmp_path / "s", {"scene": "x", "parameters": {"a": 1}, "mu": 0.2})
     data = json.loads(p.read_text())
     assert data["mu"] == 0.2 and "versions" in data
+
+
+def test_a_row_with_a_new_key_extends_the_header_and_keeps_every_value(mpi_tmp_path):
+    """A point that reports a key the first did not (e.g. a flag raised at one speed)
+    must not stop the sweep (it raised on rank 0 alone before, and lost the point):
+    the header grows, earlier rows get an empty cell."""
+    from dolfinx_seal.mpi import COMM_WORLD
+
+    w = SweepWriter(mpi_tmp_path / "n")
+    w.append({"speed": 1.0, "mu": 0.1})
+    w.append({"speed": 2.0, "mu": 0.2, "flag": True})
+    w.append({"speed": 3.0, "mu": 0.3})
+    COMM_WORLD.barrier()
+    rows = read_csv(mpi_tmp_path / "n" / "sweep.csv")
+    assert [float(r["speed"]) for r in rows] == [1.0, 2.0, 3.0]
+    assert [float(r["mu"]) for r in rows] == [0.1, 0.2, 0.3]
+    assert [r["flag"] for r in rows] == ["", "True", ""]
