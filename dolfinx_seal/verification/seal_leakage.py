@@ -28,7 +28,14 @@ inlet side carries ``h* = sqrt(8 eta U / (9 w))``, and the film left on the
 rod behind the seal is ``h*/2`` per unit area: the out-stroke carries
 ``Q_out = pi R U h*_out`` out (``w`` on the oil side) and the in-stroke can
 bring ``pi R U h*_in`` back (``w`` on the air side).  :func:`ihl_film` returns
-``h*`` from a contact pressure profile.
+``h*`` from a contact pressure profile.  :func:`ihl_solution` goes on to the
+whole inverse solution: with the flow ``q = U h*/2`` per unit circumference
+fixed, the Reynolds flux ``q = U h/2 - h^3 p'/(12 eta)`` is a cubic in the film
+``h(z)`` at every point of the pressure profile (its larger positive root on
+the inlet side of the largest gradient, where the film comes down from the
+wide inlet, its smaller one from there to the pressure peak, the only positive
+one on the outlet side), and the shear on the rod ``eta U/h + (h/2) p'`` gives
+the friction force of the full film.
 """
 
 from __future__ import annotations
@@ -144,4 +151,63 @@ def ihl_film(z: FloatArray, p: FloatArray, viscosity: float, speed: float) -> fl
     return math.sqrt(8.0 * viscosity * abs(speed) / (9.0 * w))
 
 
-__all__ = ["hoop_shear_force", "ihl_film", "static_leakage"]
+def ihl_solution(
+    z: FloatArray, p: FloatArray, viscosity: float, speed: float, radius: float
+) -> dict[str, FloatArray | float]:
+    """The inverse hydrodynamic film and friction of a rod sliding under ``p(z)``.
+
+    Args:
+        z: Axial positions [m], increasing from the oil to the air side.
+        p: The contact pressure there [Pa] (the dry installed pressure).
+        viscosity: eta [Pa s].
+        speed: Rod speed U [m/s], positive towards the air side (out-stroke).
+        radius: Rod radius R [m].
+
+    Returns ``h_star`` (the film at the pressure peak) [m], ``flow`` ``2 pi R q``
+    [m^3/s] (signed with U: out through the air end on the out-stroke),
+    ``transport_film_thickness`` ``q/U = h*/2`` [m], ``film`` ``h(z)`` on the
+    band where ``p > 0`` (``nan`` elsewhere) and ``friction_force`` [N]: ``sign(U)
+    2 pi R int (eta U / h + (h/2) p') dz`` over that band, the drag opposing the
+    rod (the FEM's sign convention: couette plus Poiseuille parts).
+    """
+    z, p = np.asarray(z, float), np.asarray(p, float)
+    if speed == 0.0:
+        raise ParameterError("ihl_solution: speed must be non-zero")
+    sign = math.copysign(1.0, speed)
+    # the flow runs along +x: x = z on the out-stroke, x = -z on the in-stroke
+    x, pp = (z, p) if sign > 0 else (-z[::-1], p[::-1])
+    u = abs(speed)
+    h_star = ihl_film(x, pp, viscosity, u)
+    q = 0.5 * u * h_star
+    dp = np.gradient(pp, x)
+    i_peak = int(np.argmax(pp))
+    i_w = int(np.argmax(dp[: i_peak + 1]))
+    h = np.full(x.size, np.nan)
+    for j in np.flatnonzero(pp > 0.0):
+        a = dp[j] / (12.0 * viscosity)
+        if abs(a) * h_star**2 < 1e-12 * u:  # p' = 0: the film of the flow alone
+            h[j] = 2.0 * q / u
+            continue
+        roots = np.roots([a, 0.0, -0.5 * u, q])
+        pos = np.sort(roots[(np.abs(roots.imag) < 1e-9 * h_star) & (roots.real > 0)].real)
+        if pos.size == 0:  # past the largest gradient (round-off): the double root
+            h[j] = 3.0 * q / u
+        elif a > 0.0 and j < i_w:
+            h[j] = pos[-1]  # from the wide inlet down to the largest gradient
+        else:
+            h[j] = pos[0]
+    band = np.isfinite(h)
+    tau = viscosity * u / h + 0.5 * h * dp  # shear on the rod along the flow [Pa]
+    integrand = np.where(band, tau, 0.0)
+    force = 2.0 * math.pi * radius * float(np.trapezoid(integrand, x))
+    film = h if sign > 0 else h[::-1]
+    return {
+        "h_star": h_star,
+        "flow": sign * 2.0 * math.pi * radius * q,
+        "transport_film_thickness": 0.5 * h_star,
+        "film": film,
+        "friction_force": force,
+    }
+
+
+__all__ = ["hoop_shear_force", "ihl_film", "ihl_solution", "static_leakage"]
