@@ -75,6 +75,7 @@ from dolfinx_seal.surface.state import SurfaceState
 
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
 FLOW_FACTORS = ("none", "patir-cheng", "persson")
+UPWIND = ("fraction", "film")
 ACTIVE_TOLERANCE = 1e-8  # scaled pressure at or below which a film node is on its bound (PETSc VI)
 #: Thinnest film [m] a continuum Reynolds film describes: about three to five
 #: molecular layers of a mineral oil.  Below it the viscous (Couette) shear
@@ -107,6 +108,15 @@ class FilmParams:
         inlet_pressure: Pressure on the upstream edge of the lubricated zone
             (gauge, relative to the cavitation pressure) [Pa].
         outlet_pressure: Pressure on the downstream edge [Pa].
+        upwind: What the streamline diffusion of the Couette transport upwinds:
+            ``fraction`` (the film fraction theta only, a central film gap) or
+            ``film`` (the transported film g theta as a whole: a first-order
+            upwind scheme of the Couette term, S0's "forward difference for the
+            Couette term in order to get a stable scheme").  A very soft contact
+            (a seal, deformed hundreds of times its film) is in the inverse-
+            hydrodynamic limit where the Couette term fixes the film: a central
+            gap then decouples odd and even nodes (a node-to-node wiggle of the
+            film and the pressure).
         gap_floor: Smallest gap used in the film coefficients, in units of
             h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates; a
             converged Persson solution never reaches it).
@@ -122,12 +132,14 @@ class FilmParams:
     gap_floor: float = 0.01
     inlet_pressure: float = 0.0
     outlet_pressure: float = 0.0
+    upwind: str = "fraction"
 
     def __post_init__(self) -> None:
         check_positive("film.viscosity", self.viscosity, "Pa s")
         check_range("film.speed", self.speed, -1e3, 1e3, unit="m/s")
         check_choice("film.cavitation", self.cavitation, CAVITATION_MODELS)
         check_choice("film.flow_factor", self.flow_factor, FLOW_FACTORS)
+        check_choice("film.upwind", self.upwind, UPWIND)
         check_range("film.upstream", self.upstream, 1.0, 100.0)
         check_range("film.downstream", self.downstream, 1.0, 100.0)
         check_range("film.asperity_shear", self.asperity_shear, 0.0, 1e9, unit="Pa")
@@ -292,16 +304,21 @@ class SurfaceFilm:
         R = self.conductivity * sc.pressure * ufl.dot(self.surface_grad(self.P), grad_q) * self.da
         R = R * self.ds
         if self.has_transport:
-            # one-point quadrature + streamline diffusion h/(2|U_m|): full upwinding of theta
+            # one-point quadrature + streamline diffusion h/(2|U_m|): full upwinding of
+            # theta (upwind = "fraction") or of the transported film g theta ("film")
             R += -self.g * self.theta * ufl.dot(self.U_m, grad_q) * self.da * self.ds1
-            if self.has_theta:
+            upwinded = None
+            if pr.upwind == "film":
+                upwinded = self.surface_grad(self.g * self.theta)
+            elif self.has_theta:
+                upwinded = self.g * self.surface_grad(self.theta_fn)
+            if upwinded is not None:
                 h_e = self._element_size(mesh)
                 Um_abs = 0.5 * abs(self.speed)
                 R += (
                     h_e
                     / (2.0 * Um_abs)
-                    * self.g
-                    * ufl.dot(self.U_m, self.surface_grad(self.theta_fn))
+                    * ufl.dot(self.U_m, upwinded)
                     * ufl.dot(self.U_m, grad_q)
                     * self.da
                     * self.ds1

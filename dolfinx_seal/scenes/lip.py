@@ -116,6 +116,9 @@ class LipParameters(LipInstallParameters):
             cavitation="jfo",
             flow_factor="persson",
             asperity_shear=1.0e6,
+            # a seal is deformed hundreds of times its film: the inverse-hydrodynamic
+            # limit, where a central film gap wiggles node to node (FilmParams.upwind)
+            upwind="film",
         )
     )
     motion: str = "rotary"

@@ -9,11 +9,13 @@
   air end.
 * Rotary friction: the torque's Couette and asperity parts against quadratures
   of the written film profile.
-* Reciprocating: the oil left on the rod (out-stroke) against the inverse
-  hydrodynamic estimate from the contact pressure (IHL, Blok / Muller & Nau).
+* Reciprocating: a smooth rod in full film, both strokes, against the inverse
+  hydrodynamic film of the dry contact pressure (IHL, Blok / Muller & Nau).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -21,7 +23,7 @@ from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.scenes import make_parameters, set_parameter
-from dolfinx_seal.verification.seal_leakage import hoop_shear_force, ihl_film, static_leakage
+from dolfinx_seal.verification.seal_leakage import hoop_shear_force, static_leakage
 
 # an open band: the S0-like combined roughness of a rougher shaft (h_rms 1 um, q0 =
 # 3e5 1/m) keeps the separation under the peak at ~0.4 um, far from percolation,
@@ -152,39 +154,52 @@ def test_film_edge_pressures_are_the_sealed_pressures(name, own):
 
 
 @pytest.mark.slow
-def test_strokes_against_inverse_hydrodynamics():
-    """The oil a rod carries out (out-stroke, +1 m/s) and can carry back
-    (in-stroke, -1 m/s): the FEM (JFO) against IHL's h*/2 of the dry installed
-    contact pressure (Blok; Muller & Nau), and the rod seal's leak criterion.
+def test_a_smooth_rod_in_full_film_against_inverse_hydrodynamics(mpi_tmp_path):
+    """A lapped rod (h_rms 0.02 um) under the default lip in hydraulic oil (0.04 Pa
+    s), both strokes at 0.1 and 1 m/s, in full film (fluid load 1), against the
+    inverse hydrodynamic film of the dry installed pressure on the same mesh
+    (Blok; Muller & Nau: the film the rod carries is h*/2 with h* = sqrt(8 eta U /
+    (9 w)), w the steepest inlet gradient).
 
-    Measured on 10 um: out-stroke 151.2 nm against IHL 138.5 nm (+9.2 %, fluid
-    load 0.56: IHL neglects the flow through the roughness and the change of the
-    pressure under the friction drag); in-stroke 275.6 against 211.1 nm (+31 %:
-    the in-stroke drag halves the band)."""
-    from dolfinx_seal.scenes import lip
+    Measured (bench/lip_rod.py), FEM over IHL: 1.14-1.47 on 10 um and 1.17-1.55 on
+    5 um bands from 0.03 to 1 m/s (both meshes: the ratio does not come from the
+    discretisation): the film's own pressure softens the steep dry inlet, so the
+    coupled film is thicker than IHL's; up to 1.6 is allowed.  IHL's laws
+    themselves hold closer: the film grows as U^(1/2) (FEM: exponents 0.54-0.56
+    per decade) and the in-stroke carries sqrt(w_oil / w_air) times the
+    out-stroke's film (FEM within 6-14 % of IHL's ratio).  At 10-30 m/s the lip
+    lifts and tilts (radial load x0.8-2) and IHL no longer applies (docs)."""
+    from dolfinx_seal.output import read_csv
+    from dolfinx_seal.scenes import lip_install, sweep_scene
+    from dolfinx_seal.verification.seal_leakage import ihl_solution
 
-    films = {}
-    for speed in (1.0, -1.0):
-        p = make_parameters("lip", values={"lip": {"h_contact": 10e-6}, "oil_pressure": 0.0,
-                                           "motion": "reciprocating", "film": {"speed": speed}})  # fmt: skip
-        lub = lip.build(p)
-        prob = lub.problem
-        Xs, pc = lip._surface_by_z(prob, prob.p_cont)  # the dry installed contact pressure
-        v = lip._by_z(prob.film.film_values())
-        z = np.interp(Xs[:, 1], v["X"][:, 1], v["x"][:, 1])
-        h_star = ihl_film(z, pc, p.film.viscosity, speed)
-        lip.move_oil_pressure(lub, p)
-        lip.solve_speed(lub, p)
-        res = lip.results(lub, p)
-        assert res["mass_balance_error"] < 1e-5
-        films[speed] = (res["transport_film_thickness"], 0.5 * h_star)
-    out, ihl_out = films[1.0]
-    back, ihl_back = films[-1.0]
-    assert out == pytest.approx(ihl_out, rel=0.15, abs=0.0)
-    assert back == pytest.approx(ihl_back, rel=0.4, abs=0.0)
-    # IHL's criterion: the steeper oil side gives the thinner out-going film, so the
-    # in-stroke can bring back more than the out-stroke carries out (no leak)
-    assert ihl_back > ihl_out and back > out
+    p = make_parameters("lip", values={
+        "lip": {"h_contact": 10e-6}, "roughness": {"h_rms": 0.02e-6},
+        "film": {"viscosity": 0.04}, "motion": "reciprocating", "oil_pressure": 0.0,
+    })  # fmt: skip
+    inst = lip_install.install(p)  # the dry installed pressure of the same mesh
+    _, pc = inst.problem.surface_values(inst.problem.p_cont, average=True)
+    _, z = inst.problem.surface_values(inst.problem.x[1], average=True)
+    inst.problem.destroy()
+    order = np.argsort(z)
+    z, pc = z[order], pc[order]
+    speeds = [0.1, 1.0, -0.1, -1.0]
+    sweep_scene("lip", p, mpi_tmp_path, "film.speed", speeds)
+    rows = {float(r["speed"]): r for r in read_csv(mpi_tmp_path / "sweep.csv")}
+    assert sorted(rows) == sorted(speeds)
+    film, ihl = {}, {}
+    for u, r in rows.items():
+        assert float(r["fluid_load_fraction"]) > 0.999 and float(r["mass_balance_error"]) < 1e-6
+        film[u] = float(r["transport_film_thickness"])
+        ihl[u] = ihl_solution(z, pc, p.film.viscosity, u, p.lip.shaft_radius)
+        assert 1.0 < film[u] / ihl[u]["transport_film_thickness"] < 1.6, (u, film[u])
+    for sign in (1.0, -1.0):  # the U^(1/2) law over a decade
+        exponent = math.log10(film[sign * 1.0] / film[sign * 0.1])
+        assert exponent == pytest.approx(0.5, abs=0.1), (sign, exponent)
+    for u in (0.1, 1.0):  # the in-stroke brings back more than the out-stroke carries out
+        ratio_ihl = ihl[-u]["h_star"] / ihl[u]["h_star"]
+        assert film[-u] / film[u] == pytest.approx(ratio_ihl, rel=0.2), u
+        assert film[-u] > film[u]
 
 
 def test_same_answer_serial_and_parallel(mpi_tmp_path):
