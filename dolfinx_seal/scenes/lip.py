@@ -335,6 +335,16 @@ def move_oil_pressure(lub: LubricatedLip, params: LipParameters) -> dict[str, An
         n0 = len(prob.steps)
         prob.ramp(SteppingOptions(first=1.0, grow=2.0, easy=8, max_steps=60, predictor=False))
         steps = prob.steps[n0:]
+    except SolverError as e:  # say it in the user's terms: the pressure reached
+        t = float(e.partial.get("fraction", 0.0)) if isinstance(e.partial, dict) else 0.0
+        reached = oil0 + t * (target[0] - oil0)
+        raise SolverError(
+            f"the sealed oil pressure could not be raised beyond {reached:.4g} Pa on the "
+            f"way from {oil0:.4g} to {target[0]:.4g} Pa: {e.what}",
+            where=where,
+            history=e.history,
+            partial={"oil_pressure": reached, "fraction": t},
+        ) from e
     finally:
         prob.pressure_ramp = None
     return {

@@ -156,19 +156,19 @@ def test_film_edge_pressures_are_the_sealed_pressures(name, own):
 @pytest.mark.slow
 def test_a_smooth_rod_in_full_film_against_inverse_hydrodynamics(mpi_tmp_path):
     """A lapped rod (h_rms 0.02 um) under the default lip in hydraulic oil (0.04 Pa
-    s), both strokes at 0.1 and 1 m/s, in full film (fluid load 1), against the
-    inverse hydrodynamic film of the dry installed pressure on the same mesh
-    (Blok; Muller & Nau: the film the rod carries is h*/2 with h* = sqrt(8 eta U /
-    (9 w)), w the steepest inlet gradient).
+    s), both strokes at 0.1 and 1 m/s, in full film (fluid load 1), against
+    inverse hydrodynamics (IHL: Blok; Muller & Nau) of the dry installed pressure
+    on the same mesh: the film left on the rod is h*/2, h* = sqrt(8 eta U / (9 w)),
+    w the steepest inlet gradient (oil side out, air side in).
 
-    Measured (bench/lip_rod.py), FEM over IHL: 1.14-1.47 on 10 um and 1.17-1.55 on
-    5 um bands from 0.03 to 1 m/s (both meshes: the ratio does not come from the
-    discretisation): the film's own pressure softens the steep dry inlet, so the
-    coupled film is thicker than IHL's; up to 1.6 is allowed.  IHL's laws
-    themselves hold closer: the film grows as U^(1/2) (FEM: exponents 0.54-0.56
-    per decade) and the in-stroke carries sqrt(w_oil / w_air) times the
-    out-stroke's film (FEM within 6-14 % of IHL's ratio).  At 10-30 m/s the lip
-    lifts and tilts (radial load x0.8-2) and IHL no longer applies (docs)."""
+    IHL's laws are the reference (bench/lip_rod.py, 10 / 5 / 2.5 um bands):
+    the film grows as U^(1/2) (FEM: U^0.55-0.58 per decade on every mesh; 0.1 is
+    allowed) and the in-stroke carries sqrt(w_oil / w_air) times the out-stroke's
+    film (FEM within +8 to +14 % of IHL's ratio on 10 um, -0.5 to +3 % on 2.5 um;
+    20 % allowed on 10 um).  IHL's absolute h* is not a reference: the lip's
+    Hertz-like edge makes w grow as the mesh resolves it (h* falls by 0.87-0.89
+    per halving), while the FEM film converges; the FEM film is 1.1-1.7 times
+    IHL's on these meshes, and the band 1-2 only checks the order of magnitude."""
     from dolfinx_seal.output import read_csv
     from dolfinx_seal.scenes import lip_install, sweep_scene
     from dolfinx_seal.verification.seal_leakage import ihl_solution
@@ -192,7 +192,7 @@ def test_a_smooth_rod_in_full_film_against_inverse_hydrodynamics(mpi_tmp_path):
         assert float(r["fluid_load_fraction"]) > 0.999 and float(r["mass_balance_error"]) < 1e-6
         film[u] = float(r["transport_film_thickness"])
         ihl[u] = ihl_solution(z, pc, p.film.viscosity, u, p.lip.shaft_radius)
-        assert 1.0 < film[u] / ihl[u]["transport_film_thickness"] < 1.6, (u, film[u])
+        assert 1.0 < film[u] / ihl[u]["transport_film_thickness"] < 2.0, (u, film[u])
     for sign in (1.0, -1.0):  # the U^(1/2) law over a decade
         exponent = math.log10(film[sign * 1.0] / film[sign * 0.1])
         assert exponent == pytest.approx(0.5, abs=0.1), (sign, exponent)
