@@ -182,6 +182,7 @@ class LubricatedLip:
     face_pressures: tuple[Any, Any] | None = None
     film_only: Any = None
     rough_start: float = 1.0
+    z_installed: float = math.nan
 
     def destroy(self) -> None:
         """Free the PETSc objects of the coupled and the film-only solvers (collective)."""
@@ -250,7 +251,7 @@ def build(params: LipParameters, speed_scale: float | None = None) -> Lubricated
     _, p_pc = dry.surface_values(dry.p_cont, average=True)
     _, z_pc = dry.surface_values(dry.x[1], average=True)
     order = np.argsort(z_pc)
-    width, _ = moment_width(dry)
+    width, z_installed = moment_width(dry)
     law = dry.law
     speed = abs(params.film.speed) if speed_scale is None else abs(speed_scale)
     gap_scale = film_scale(params, z_pc[order], p_pc[order], speed)
@@ -292,7 +293,7 @@ def build(params: LipParameters, speed_scale: float | None = None) -> Lubricated
     film.restrict_to_gap(params.zone_gap * gap_scale, [prob.solver])
     if film.has_transport:  # pressurise at a slow start speed; solve_speed walks up from it
         film.set_speed(start_speed(params.film.speed))
-    out = LubricatedLip(prob, inst, faces, rough_start=rough)
+    out = LubricatedLip(prob, inst, faces, rough_start=rough, z_installed=z_installed)
     if not params.feedback:
         out.film_only = film.make_solver(
             dataclasses.replace(prob.solver.options, snes_type=snes_type), name="lip film"
@@ -338,9 +339,13 @@ def move_oil_pressure(lub: LubricatedLip, params: LipParameters) -> dict[str, An
     except SolverError as e:  # say it in the user's terms: the pressure reached
         t = float(e.partial.get("fraction", 0.0)) if isinstance(e.partial, dict) else 0.0
         reached = oil0 + t * (target[0] - oil0)
+        # how far the oil pressure on the oil-side flank has pushed the band
+        _, z_c = moment_width(prob)
+        shift = z_c - lub.z_installed
         raise SolverError(
             f"the sealed oil pressure could not be raised beyond {reached:.4g} Pa on the "
-            f"way from {oil0:.4g} to {target[0]:.4g} Pa: {e.what}",
+            f"way from {oil0:.4g} to {target[0]:.4g} Pa (the band had moved "
+            f"{shift * 1e3:+.3g} mm axially from its installed place): {e.what}",
             where=where,
             history=e.history,
             partial={"oil_pressure": reached, "fraction": t},
