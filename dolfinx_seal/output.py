@@ -1001,7 +1001,14 @@ def _duration(seconds: float) -> str:
 
 # ------------------------------------------------------------ fields for ParaView
 #: VTK cell type of each XDMF topology written by DOLFINx (P1 geometry).
-_VTK_CELLS = {"Triangle": 5, "Quadrilateral": 9, "Tetrahedron": 10, "Hexahedron": 12}
+_VTK_CELLS = {
+    "Triangle": 5,
+    "Quadrilateral": 9,
+    "Tetrahedron": 10,
+    "Hexahedron": 12,
+    "Triangle_6": 22,
+    "Tetrahedron_10": 24,
+}  # second-order geometry: VTK order
 
 
 def read_fields(path: str | Path) -> dict[str, Any]:

@@ -283,9 +283,12 @@ def reynolds_presolve(prob: Any, where: str = "") -> int:
     lower = [0.0 if b[1] is film.P else None for b in blocks]
     bcs = [bc for bc in prob.bcs if bc not in film.bcs[1:]]
     opts = dataclasses.replace(prob.solver.options, snes_type="vinewtonrsls")
+    # the step limits for this block layout (without theta: the counter position's
+    # index moves; the problem's own limiter read past the end of the vector)
+    limiter = prob.step_limiter(blocks) if prob.bulk and prob.limits.any else None
     pre = NonlinearSolver(
         [b[0] for b in blocks], [b[1] for b in blocks], bcs, lower=lower, options=opts,
-        name=f"{prob.name} Reynolds-condition start", step_limiter=prob.solver.step_limiter,
+        name=f"{prob.name} Reynolds-condition start", step_limiter=limiter,
     )  # fmt: skip
     try:
         return pre.solve(where=where or f"{prob.name}: Reynolds-condition start").newton_iterations

@@ -51,7 +51,6 @@ def lubricated_results(
         "fluid_load_fraction": load_fluid / normal if normal else math.nan,
         "friction_force": friction,
         "mu": friction / normal if normal else math.nan,
-        "h_min": float(gap.min()),
         "max_fluid_pressure": float(p.max()),
         "load_balance_error": abs(normal / sf - prob.target) / prob.target
         if prob.control == "force"
@@ -66,14 +65,14 @@ def lubricated_results(
     if prob.control != "force":
         del out["load_balance_error"]
     X = vals["X"]
+    out.update(_film_thickness(prob, gap))
+    out.update(_contact_size(prob))
     if prob.mesh.geometry.dim == 2:
         line = np.arange(xc.size)
-        out["h_central"] = float(np.interp(0.0, xc, gap))
         cav = _cavitated(film.params.cavitation, p, theta)
         dx = np.gradient(xc)
         out["cavitation_fraction"] = float(dx[cav].sum() / dx.sum())
     else:  # 3D: centre line y = 0 (the symmetry plane of a half model)
-        out["h_central"] = _central_value(X, gap)
         cav_ind = _cavitated(film.params.cavitation, film.P, film.theta_fn, ufl_form=True)
         area = prob.integrate(film.da, ds)
         out["cavitation_fraction"] = prob.integrate(cav_ind * film.da, ds) / area
@@ -95,6 +94,49 @@ def lubricated_results(
             out["contact_area_fraction"] = real / nominal_area
     out.update(complementarity_of(prob))
     return out
+
+
+def _film_thickness(prob: Any, film_gap: np.ndarray) -> dict[str, float]:
+    """``h_min`` and ``h_central`` [m] of the gap on the lubricated surface.
+
+    Sampled at the nodes of the displacement (P2: vertices and edge midpoints) where
+    the body has them, not only at the film's P1 nodes: the exit constriction of a
+    soft EHL film is a few elements wide, and sampling it at twice the density halves
+    the distance to its true minimum.  ``h_central``: the gap interpolated at the
+    contact centre (in 2D at the current x = 0, below the axis of the counter-surface;
+    in 3D at the reference x = y = 0, a half model mirrored about y = 0).
+    ``film_gap`` (the gap at the film nodes) is used by a rigid body."""
+    if prob.bulk:
+        X, gap = prob.surface_values(prob.gap)
+        X = X[:, : prob.mesh.geometry.dim]
+    else:
+        X, gap = prob.film.film_values()["X"], film_gap
+    out = {"h_min": float(np.min(gap))}
+    if prob.mesh.geometry.dim == 2:
+        xc = prob.surface_values(prob.x[0])[1] if prob.bulk else X[:, 0]
+        order = np.argsort(xc)
+        out["h_central"] = float(np.interp(0.0, xc[order], gap[order]))
+    else:
+        out["h_central"] = _central_value(X, gap)
+    return out
+
+
+def _contact_size(prob: Any) -> dict[str, float]:
+    """The size of the loaded zone from the second moment of the normal force (fluid
+    and asperities) about the contact centre: ``contact_half_width = 2 <x^2>^(1/2)``
+    (line contact) or ``contact_radius = (5 <r^2> / 2)^(1/2)`` (point contact), both
+    exact for a Hertz pressure (as for the dry contact)."""
+    fn = prob.normal_force_integrand()
+    x = prob.x
+    line = prob.mesh.geometry.dim == 2
+    r2 = x[0] ** 2 if line else x[0] ** 2 + x[1] ** 2
+    m0 = prob.integrate(fn, prob.ds_c)
+    m2 = prob.integrate(fn * r2, prob.ds_c)
+    if not (m0 > 0 and m2 >= 0):
+        return {}
+    if line:
+        return {"contact_half_width": 2.0 * math.sqrt(m2 / m0)}
+    return {"contact_radius": math.sqrt(2.5 * m2 / m0)}
 
 
 def complementarity_of(prob: Any) -> dict[str, float]:
@@ -305,15 +347,16 @@ def write_fields(
 
     Fields, where the problem has them (SI):
 
-    * ``displacement`` [m] (P1 vector, nodes);
+    * ``displacement`` [m] (vector, at the nodes; Lagrange of the geometry's degree,
+      P1 on straight-sided meshes, as every nodal field below);
     * ``cauchy_stress`` [Pa] (3x3 tensor, one value per cell: (x, y, z), or
       (r, z, theta) in axisymmetry) and ``von_mises_stress`` [Pa] (per cell), from
       the problem's strain energy (:func:`cauchy_stress`);
     * ``contact_pressure`` [Pa] (asperity law at the gap) and ``gap`` [m] (distance
-      to the counter-surface along its normal), P1 on all nodes, meaningful on the
+      to the counter-surface along its normal), on all nodes, meaningful on the
       contact surface;
     * ``fluid_pressure`` [Pa] and ``film_fraction`` [-] (JFO films only) of the film;
-    * each UFL expression of ``extra`` (name -> expression) as a P1 field; an extra
+    * each UFL expression of ``extra`` (name -> expression) as a nodal field; an extra
       replaces the field of the same name or the same expression (e.g. the gap
       written as ``separation``).
 
@@ -332,8 +375,9 @@ def write_fields(
     if mesh.comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     mesh.comm.barrier()
-    V1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
-    S1 = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+    deg = mesh.geometry.cmap.degree  # XDMF writes Lagrange fields of the geometry's degree
+    V1 = dolfinx.fem.functionspace(mesh, ("Lagrange", deg, (mesh.geometry.dim,)))
+    S1 = dolfinx.fem.functionspace(mesh, ("Lagrange", deg))
     extra = dict(extra or {})
     given = [id(e) for e in extra.values()]
 
@@ -357,11 +401,12 @@ def write_fields(
             fields.append(interpolate(S1, key, expr))
     if prob.film is not None:
         p = dolfinx.fem.Function(S1, name="fluid_pressure")
-        p.x.array[:] = prob.film.scales.pressure * prob.film.P.x.array
+        p.interpolate(prob.film.P)
+        p.x.array[:] *= prob.film.scales.pressure
         fields.append(p)
         if prob.film.has_theta:
             t = dolfinx.fem.Function(S1, name="film_fraction")
-            t.x.array[:] = prob.film.theta_fn.x.array
+            t.interpolate(prob.film.theta_fn)
             fields.append(t)
     fields = [f for f in fields if f.name not in extra]
     fields += [interpolate(S1, key, expr) for key, expr in extra.items()]

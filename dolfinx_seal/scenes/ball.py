@@ -65,6 +65,8 @@ from dolfinx_seal.solid.step_limits import StepLimits
 from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
+#: Default elements per Hertz radius at the contact (:attr:`BallParameters.contact_elements`).
+CONTACT_ELEMENTS = 20.0
 START_FILM = 4.0  # central film of the start point, in h_rms
 GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
 
@@ -80,7 +82,16 @@ class BallParameters:
         roughness: Roughness (S1: h_rms 1 um, D_f 2.2).
         contact: Asperity contact law.
         shape: ``half`` (symmetry plane y = 0) or ``full``.
-        h_contact: Element size at the contact [m] (at most a_Hertz / 4).
+        contact_elements: Elements per Hertz radius at the contact [-]: the contact
+            element size is ``a_Hertz / contact_elements`` unless ``h_contact`` is
+            given, so a changed load, radius or modulus keeps the film resolved
+            (bench/mesh_defaults.py: the default lands within 2 % of the finest
+            level for mu, h_central, h_min and the contact radius).
+        h_contact: Element size at the contact [m] (at most a_Hertz / 4); None
+            (default): ``a_Hertz / contact_elements``.
+        mesh_order: Geometry order of the mesh: 2 puts the mid-edge nodes on the
+            sphere; 1 leaves flat facets whose chord sag ``h^2 / (8 R)`` (0.1 um at
+            a/20) is a few per cent of a film of microns.
         mesh_growth: Element size increase per unit depth below the contact surface
             [-] (0 < growth <= 2): 1 keeps the fine film zone a thin layer, so the
             film can be resolved (a/25 at about 1e5 unknowns); the dry-ball studies of
@@ -105,7 +116,9 @@ class BallParameters:
     roughness: RoughnessParams = field(default_factory=RoughnessParams)
     contact: ContactLawParams = field(default_factory=ContactLawParams)
     shape: str = "half"
-    h_contact: float = 0.25e-3
+    contact_elements: float = CONTACT_ELEMENTS
+    h_contact: float | None = None
+    mesh_order: int = 2
     mesh_growth: float = 1.0
     degree: int = 2
     lubricated: bool = True
@@ -121,9 +134,12 @@ class BallParameters:
         check_choice("shape", self.shape, ("half", "full"))
         check_int_range("degree", self.degree, 1, 3)
         a, _ = hertz_point(self.load, self.radius, self.material.E_star)
+        check_range("contact_elements", self.contact_elements, 4.0, 200.0)
+        # on the resolved size: an explicit h_contact, or a / contact_elements (<= a / 4)
         check_range(
-            "h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
+            "h_contact", self.element_size, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
         )
+        check_int_range("mesh_order", self.mesh_order, 1, 2)
         check_range("mesh_growth", self.mesh_growth, 0.0, 2.0, lo_open=True)
         check_range("film_extent", self.film_extent, 1.5, 4.5)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
@@ -144,6 +160,14 @@ class BallParameters:
                 "load",
             )
 
+    @property
+    def element_size(self) -> float:
+        """The element size at the contact [m]: ``h_contact``, or the Hertz radius
+        over ``contact_elements``."""
+        if self.h_contact is not None:
+            return self.h_contact
+        return hertz_point(self.load, self.radius, self.material.E_star)[0] / self.contact_elements
+
 
 def scales(p: BallParameters) -> Scales:
     """Hertz point contact: radius, peak pressure, nominal area ``pi a^2``; the half
@@ -158,14 +182,18 @@ def scales(p: BallParameters) -> Scales:
 
 
 def mesh(p: BallParameters, s: Scales, comm: Any) -> TaggedMesh:
-    """The ball mesh; lubricated: the contact cap (radius ``film_extent a``) is the film."""
+    """The ball mesh; lubricated: the contact cap (radius ``film_extent a``) is the film.
+    Every size follows the contact: the cap's elements grow to ``a / 6`` (at least
+    twice the contact element), the far field to ``R / 10``."""
     extra: dict[str, Any] = {}
     if p.lubricated:
         extra = dict(cap_extent=p.film_extent, fine_extent=min(1.5, p.film_extent - 0.1))
+    h = p.element_size
+    h_far = max(2 * h, p.radius / 10)
     return create_mesh(
         "ball", comm=comm, radius=p.radius, shape=p.shape, contact_radius=s.length,
-        h_contact=p.h_contact, h_cap=max(2 * p.h_contact, min(0.3e-3, s.length / 2)),
-        growth=p.mesh_growth, **extra,
+        h_contact=h, h_cap=min(max(2 * h, s.length / 6), h_far), h_far=h_far,
+        growth=p.mesh_growth, order=p.mesh_order, **extra,
     )  # fmt: skip
 
 
@@ -182,7 +210,7 @@ def problem(p: BallParameters, tm: TaggedMesh, s: Scales, law: Any, film: Any,
     lub = film is not None
     snes = film_snes(p.film, line_search="bt") if lub else SNESOptions(max_it=60, dtol=1e12)
     limits = StepLimits(
-        max_step=0.5 * p.h_contact,
+        max_step=0.5 * p.element_size,
         max_gap_step=3.0 * law.h_rms / law.alpha if law is not None else None,  # decay lengths
         max_gap_closure=GAP_CLOSURE if lub else None,
     )  # fmt: skip

@@ -67,6 +67,17 @@ from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import area_fraction
 
+#: A Newton step closes no film gap by more than this fraction of itself (rough,
+#: deformable and lubricated; :class:`~dolfinx_seal.solid.step_limits.StepLimits`).
+GAP_CLOSURE = 0.5
+#: The full-film start (:func:`full_film_start`) puts the flat this many ``h_rms``
+#: below the Hertz-deformed cylinder, at the speed where S1's film estimate is that thick.
+START_FILM = 4.0
+
+#: Default elements per Hertz half-width at the contact
+#: (:attr:`CylinderParameters.contact_elements`; 10.3 um for the S1 cylinder).
+CONTACT_ELEMENTS = 30.0
+
 
 @dataclass(frozen=True)
 class CylinderParameters:
@@ -78,7 +89,13 @@ class CylinderParameters:
         material: Rubber bulk.
         roughness: Roughness of the combined surfaces (S1: h_rms 1 um, D_f 2.2).
         contact: Asperity contact law (``none``: no asperity contact, lubricated only).
-        h_contact: Element size at the contact [m] (at most a_Hertz / 4).
+        contact_elements: Elements per Hertz half-width at the contact [-]: the
+            contact element size is ``a_Hertz / contact_elements`` unless ``h_contact``
+            is given, so a changed load, radius or modulus keeps the contact resolved
+            (bench/mesh_defaults.py: the default lands within 2 % of the finest level
+            for mu, h_central, h_min and the contact half-width).
+        h_contact: Element size at the contact [m] (at most a_Hertz / 4); None
+            (default): ``a_Hertz / contact_elements``.
         degree: Displacement degree (2; the mixed pressure is one lower).
         lubricated: Solve the film (false: dry contact, no film unknowns).
         bulk: Deformable cylinder (false: rigid, no displacement unknowns).
@@ -95,7 +112,8 @@ class CylinderParameters:
     material: MaterialParams = field(default_factory=MaterialParams)
     roughness: RoughnessParams = field(default_factory=RoughnessParams)
     contact: ContactLawParams = field(default_factory=ContactLawParams)
-    h_contact: float = 10e-6
+    contact_elements: float = CONTACT_ELEMENTS
+    h_contact: float | None = None
     degree: int = 2
     lubricated: bool = True
     bulk: bool = True
@@ -114,8 +132,10 @@ class CylinderParameters:
         check_range("relaxation", self.relaxation, 0.0, 1.0, lo_open=True)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
         a, _ = hertz_line(self.load, self.radius, self.material.E_star)
+        check_range("contact_elements", self.contact_elements, 4.0, 1000.0)
+        # on the resolved size: an explicit h_contact, or a / contact_elements (<= a / 4)
         check_range(
-            "h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
+            "h_contact", self.element_size, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
         )
         if a > 0.3 * self.radius:
             f_max = self.load * (0.3 * self.radius / a) ** 2  # a ~ F^(1/2)
@@ -136,6 +156,14 @@ class CylinderParameters:
                 "film.speed = 0 with contact.model = 'none': nothing would carry the load"
             )
 
+    @property
+    def element_size(self) -> float:
+        """The element size at the contact [m]: ``h_contact``, or the Hertz half-width
+        over ``contact_elements``."""
+        if self.h_contact is not None:
+            return self.h_contact
+        return hertz_line(self.load, self.radius, self.material.E_star)[0] / self.contact_elements
+
 
 def scales(p: CylinderParameters) -> Scales:
     """Hertz line contact: half-width, peak pressure, nominal length ``2 a``."""
@@ -151,7 +179,7 @@ def mesh(p: CylinderParameters, s: Scales, comm: Any) -> TaggedMesh:
         extra = dict(contact_upstream=p.film.upstream, contact_downstream=p.film.downstream)
     return create_mesh(
         "cylinder", comm=comm, radius=p.radius, contact_half_width=s.length,
-        h_contact=p.h_contact, h_arc=max(4 * p.h_contact, min(60e-6, s.length)), **extra,
+        h_contact=p.element_size, h_arc=max(4 * p.element_size, min(60e-6, s.length)), **extra,
     )  # fmt: skip
 
 
@@ -159,19 +187,29 @@ def problem(p: CylinderParameters, tm: TaggedMesh, s: Scales, law: Any, film: An
             control: Control) -> SolidContactProblem:  # fmt: skip
     """Plane strain on a flat, loaded on the top face; a rigid cylinder has no bulk.
     Newton steps are held to half an element normal to the flat (and, deformable,
-    to the larger of half an element and a/60 in any direction)."""
-    h = p.h_contact
+    to the larger of half an element and a/60 in any direction); lubricated, rough
+    and deformable, no film gap closes by more than :data:`GAP_CLOSURE` of itself
+    (or opens by more than the factor ``1 / (1 - GAP_CLOSURE)``) unless by at most
+    three decay lengths ``h_rms / alpha`` of the contact law, as on the ball.  From a
+    full-film start a normal step of half an element (5 um) closed the 4 um film
+    of the E = 1 MPa cylinder to -1.3 um in one step (residual 4.3 -> 8.7e4, then
+    NaN); with the rule its start converges in 46 Newton steps."""
+    h = p.element_size
+    gap_step = closure = None
     if film is None:
         snes, max_step, max_normal = SNESOptions(max_it=40, dtol=1e12), 0.5 * h, None
     else:
         snes, max_normal = film_snes(p.film), 0.5 * h
         max_step = max(0.5 * h, s.length / 60.0) if p.bulk else None
+        if p.bulk and law is not None:  # the film gap rule of the ball
+            gap_step, closure = 3.0 * law.h_rms / law.alpha, GAP_CLOSURE
     body = Body(PlaneStrain(), p.material.build() if p.bulk else None,
                 [Dirichlet(tm.tag("load"))], degree=p.degree)  # fmt: skip
+    limits = StepLimits(max_step=max_step, max_normal_step=max_normal, max_gap_step=gap_step,
+                        max_gap_closure=closure)  # fmt: skip
     return SolidContactProblem(
         tm.mesh, tm.facet_tags, body, Flat(axis=1), control, tm.tag("contact"), law=law,
-        film=film, limits=StepLimits(max_step=max_step, max_normal_step=max_normal), snes=snes,
-        name="cylinder",
+        film=film, limits=limits, snes=snes, name="cylinder",
     )  # fmt: skip
 
 
@@ -276,6 +314,54 @@ def start(prob: SolidContactProblem, p: CylinderParameters, s: Scales) -> dict[s
     return info
 
 
+def film_start_speed(p: CylinderParameters) -> float:
+    """The speed [m/s] of :func:`full_film_start`: S1's film estimate (after its
+    fig 15) ``u = (0.2 eta v a / p_mean)^(1/2)`` set to :data:`START_FILM` ``h_rms``
+    (``p_mean = pi/4 p_H``), i.e. ``(30 START_FILM)^2`` times the boundary start speed
+    (0.42 m/s for the default system)."""
+    s = scales(p)
+    h0 = START_FILM * p.roughness.h_rms
+    return h0**2 * (math.pi / 4.0 * s.pressure) / (0.2 * p.film.viscosity * s.length)
+
+
+def full_film_start(prob: SolidContactProblem, p: CylinderParameters, s: Scales) -> dict[str, Any]:
+    """A rough cylinder's start in full film, walked to ``film.speed`` (the fallback
+    chain's other regime, :meth:`~dolfinx_seal.scenes.lubricated.LubricatedScene.first_state`).
+
+    The boundary-lubrication start (:func:`start`) begins where the asperities carry
+    the Hertz pressure.  Where that pressure puts the contact law near complete
+    contact (E = 1 MPa: separation 0.002 h_rms at p_H, local decay length 3 nm;
+    h_rms = 0.1 um: 2e-5 h_rms) its first Newton step diverged (NaN: inverted
+    elements after a step closing the 2 nm gap to -0.57 um).  Here the cylinder is
+    deformed under the Hertz pressure with the flat :data:`START_FILM` ``h_rms`` below
+    it, at :func:`film_start_speed`, where the asperities carry little; the film and
+    the flat's position are solved on that frozen shape, then the coupled problem,
+    then speed continuation to ``film.speed`` (down or up).  Only for a rough,
+    deformable cylinder with a sliding speed."""
+    target = p.film.speed
+    if not (prob.bulk and prob.law is not None) or target == 0.0:
+        raise ParameterError("the full-film start needs a rough, deformable, sliding cylinder")
+    v0 = math.copysign(film_start_speed(p), target)
+    prob.film.set_speed(v0)
+    info = start_coupled(
+        prob, v0, v0, p.stepping, "cylinder full-film start",
+        pressure_guess=s.hertz_pressure(prob.X), peak_gap=START_FILM * p.roughness.h_rms,
+        film_guess=True,
+    )  # fmt: skip
+    if v0 != target:
+        recs = speed_sweep(prob, [target], lambda *_: None, dict, p.stepping)
+        if not recs[-1].converged:
+            raise SolverError(
+                f"the full-film start at {v0:.3g} m/s did not reach film.speed = {target:g} "
+                f"m/s: {recs[-1].error}",
+                where="cylinder full-film start", partial={"speed": float(prob.film.speed.value)},
+            )  # fmt: skip
+        info["newton_iterations"] += recs[-1].newton_iterations
+    info["strategy"] = (f"full-film start at {v0:.3g} m/s (film {START_FILM:g} h_rms), speed "
+                        f"continuation to {target:.3g} m/s")  # fmt: skip
+    return info
+
+
 def write_point(out: Path, prob: SolidContactProblem, p: CylinderParameters) -> None:
     """``film.csv`` / ``film.png`` along the contact line."""
     f = p.film
@@ -308,6 +394,7 @@ CYLINDER = LubricatedScene(
     parameters=CylinderParameters,
     scales=scales, mesh=mesh, problem=problem, start=start, write_point=write_point,
     write_dry=write_dry, start_speed=start_speed, first_speed=first_speed,
+    other_start=full_film_start,
 )  # fmt: skip
 SCENE = CYLINDER.scene
 run, run_lubricated, run_dry, sweep = (

@@ -38,9 +38,14 @@ A scene module is its parameter dataclass plus the hooks of a
     (:meth:`LubricatedScene.first_state`) uses it to try speeds where the start
     really begins elsewhere.  Without it, a failed start goes straight to load
     stepping.
+``other_start(problem, p, scales) -> solver figures`` (optional)
+    A start in another regime, walked to ``p.film.speed`` (the cylinder's full-film
+    start, where its own begins in boundary lubrication): the fallback chain's
+    second attempt.  It raises :class:`~dolfinx_seal.errors.ParameterError` where it
+    does not apply.
 
 What the template does with them, the same way for every scene: the parameters
-must have ``load``, ``h_contact``, ``material``, ``roughness``, ``contact``,
+must have ``load``, ``element_size`` (the contact element [m]), ``material``, ``roughness``, ``contact``,
 ``lubricated``, ``film``, ``sweep_order`` and ``stepping``; :meth:`run` picks the
 lubricated or the dry point; the lubricated point reports
 :func:`~dolfinx_seal.coupled.results.lubricated_results` with the Hertz and
@@ -172,6 +177,7 @@ class LubricatedScene:
     start_speed: Callable[[Any], float] | None = None
     film_gap: Callable[[Any], float] | None = None
     first_speed: Callable[[Any], float] | None = None
+    other_start: Callable[[SolidContactProblem, Any, Scales], Results] | None = None
 
     def __repr__(self) -> str:
         return f"LubricatedScene({self.name!r})"
@@ -197,7 +203,7 @@ class LubricatedScene:
         gap = self.film_gap(p) if self.film_gap is not None else h_rms
         sym = (tm.tag("symmetry"),) if "symmetry" in tm.info["facet_groups"] else ()
         return SurfaceFilm(
-            p.film, FilmScales(pressure=s.pressure, length=s.length, gap=gap, element=p.h_contact),
+            p.film, FilmScales(pressure=s.pressure, length=s.length, gap=gap, element=p.element_size),
             h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan) if law is not None else math.nan,
             e_star=p.material.E_star, no_flux_tags=sym,
             psd=p.roughness.build() if p.film.flow_factor == "persson" else None,
@@ -272,9 +278,11 @@ class LubricatedScene:
         reported (docs/design.md, "Starts and their fallback chain"):
 
         1. the scene's ``start`` at the target speed ``p.film.speed``;
-        2. the scene's ``start`` from each of :meth:`fallback_speeds` (other speeds
+        2. the scene's :attr:`other_start` (a start in another regime, e.g. full
+           film for a start that begins in boundary lubrication), if it has one;
+        3. the scene's ``start`` from each of :meth:`fallback_speeds` (other speeds
            to begin at), then speed continuation to the target;
-        3. adaptive load stepping from no load to the full load at the target
+        4. adaptive load stepping from no load to the full load at the target
            speed, from the undeformed body (no Hertz guess).
 
         Each attempt starts from the state the problem was built with; once
@@ -316,6 +324,15 @@ class LubricatedScene:
         def spent() -> bool:  # decided on rank 0: every rank takes the same branch
             return bool(budget) and COMM_WORLD.bcast(time.perf_counter() - t0 > budget, root=0)
 
+        if self.other_start is not None and not spent():
+            reset(target)
+            try:
+                info = self.other_start(prob, p, s)
+                return done(info, f"fallback: {info.get('strategy', 'other start')}")
+            except ParameterError:  # not for these parameters
+                pass
+            except SolverError as e:
+                failures.append((self.other_start.__name__.replace("_", " "), e))
         for v in self.fallback_speeds(p):
             if spent():
                 break

@@ -189,8 +189,11 @@ def test_headline_parameters_have_units_and_ranges():
     assert cyl["material.model"].allowed == "one of: linear, neo-hookean, mooney-rivlin"
     p = scenes.make_parameters("cylinder")
     a = math.sqrt(4 * p.load * p.radius / (math.pi * p.material.E_star))
-    assert cyl["h_contact"].range.hi == pytest.approx(a / 4, rel=1e-12)
-    assert "a_Hertz/4" in cyl["h_contact"].allowed
+    assert cyl["contact_elements"].allowed == "[4, 1000]"
+    # h_contact is None by default (a / contact_elements): its range shows once it is set
+    cyl_h = _by_name(paramdoc.scene_parameters("cylinder", overrides=["h_contact=1e-5"]))
+    assert cyl_h["h_contact"].range.hi == pytest.approx(a / 4, rel=1e-12)
+    assert "a_Hertz/4" in cyl_h["h_contact"].allowed
     lip = _by_name(paramdoc.scene_parameters("lip-install"))
     lp = scenes.make_parameters("lip-install").lip
     r = lip["lip.interference"]
