@@ -39,6 +39,10 @@ class SurfaceState:
             normal to every surface gradient (a turning shaft under an
             axisymmetric lip): the Couette shear still acts, the flux term is not
             assembled.
+        periodic: The periodicity of a sector (e.g.
+            :class:`~dolfinx_seal.solvers.periodic.RotationalPeriodicity`: its
+            ``scalar(V, bcs)`` gives a field's constraint), or None: the film's
+            unknowns are then constrained to be periodic too.
     """
 
     mesh: dolfinx.mesh.Mesh
@@ -55,6 +59,7 @@ class SurfaceState:
     quadrature_degree: int | None = None
     edge_axis: Any = None
     transport: bool = True
+    periodic: Any = None
 
 
 __all__ = ["SurfaceState"]
