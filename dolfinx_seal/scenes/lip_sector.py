@@ -61,7 +61,6 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
@@ -181,7 +180,8 @@ class LipStaticParameters(LipInstallParameters):
         sector: The sector and its mesh (:class:`SectorParams`).
         film: The oil film: ``viscosity`` [Pa s]; ``flow_factor`` (``persson`` or
             ``patir-cheng``, of the homogenised part); ``asperity_shear`` sigma_1
-            [Pa]; ``speed`` the shaft surface speed [m/s] (0 here).
+            [Pa]; ``speed`` the shaft surface speed [m/s], 0 (the shaft at rest;
+            ``cavitation`` is then not used: no transport, no cavitation).
         oil_pressure: Sealed (gauge) oil pressure on the oil side [Pa].
         air_pressure: Pressure on the air side [Pa].
         feedback: The fluid pressure acts on the lip (false: the lip is frozen in its
@@ -234,8 +234,8 @@ class LipStaticParameters(LipInstallParameters):
         self.mesh_params()  # the sector must fit the lip: names the parameter at fault
 
     def _check_speed(self) -> None:
-        """Zero speed (a sliding shaft is the scene ``lip-dynamic``)."""
-        check_range("film.speed", self.film.speed, 0.0, 0.0, unit="m/s (lip-dynamic slides)")
+        """Zero speed: the sliding shaft (S0 section 3.2) is not built yet."""
+        check_range("film.speed", self.film.speed, 0.0, 0.0, unit="m/s (a shaft at rest)")
 
     # ------------------------------------------------------------ derived
     @property
@@ -289,37 +289,6 @@ class LipStaticParameters(LipInstallParameters):
             elements_per_wavelength=s.elements_per_wavelength, periods=s.periods,
             sector_height=s.height, h_far=s.h_far, growth=s.growth,
         )  # fmt: skip
-
-
-@dataclass(frozen=True)
-class LipDynamicParameters(LipStaticParameters):
-    """The lip seal sector on a turning shaft (SI units); the fields of ``lip-static``.
-
-    Attributes:
-        film: The oil film: ``speed`` the shaft surface speed along the
-            circumference [m/s] (> 0: the shaft turns counter-clockwise about +z, the
-            surface slides along +x1 on the maps); ``cavitation`` ``jfo``
-            (mass-conserving, S0 eqs 10-11; default) or ``reynolds``; ``viscosity``,
-            ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
-        stepping: Speed continuation from the start speed (1 mm/s) to ``film.speed``
-            and along a speed sweep.
-    """
-
-    film: FilmParams = field(
-        default_factory=lambda: FilmParams(
-            speed=0.1, viscosity=0.01, cavitation="jfo", flow_factor="persson",
-            asperity_shear=1.0e6,
-        )
-    )  # fmt: skip
-    stepping: SpeedStepping = field(default_factory=lambda: SpeedStepping(film_presolve=False))
-
-    scene_name = "lip-dynamic"
-
-    def _check_speed(self) -> None:
-        """A turning shaft (zero speed is the scene ``lip-static``)."""
-        check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
-                    unit="m/s (lip-static is at rest)")  # fmt: skip
-        check_choice("film.cavitation", self.film.cavitation, ("jfo", "reynolds"))
 
 
 # ---------------------------------------------------------------- two scales
@@ -441,18 +410,13 @@ class SectorLip:
 
 
 def film_parameters(params: LipStaticParameters) -> FilmParams:
-    """The film as solved: edges at the sealed pressures; without transport no
-    cavitation condition (the pressure lies between the sealed pressures)."""
-    f = params.film
-    cav = f.cavitation if f.speed != 0.0 else "none"
+    """The film as solved: edges at the sealed pressures; no transport at zero speed,
+    so no cavitation condition (the pressure lies between the sealed pressures:
+    maximum principle; ``film.cavitation`` is not used)."""
     return dataclasses.replace(
-        f, cavitation=cav, inlet_pressure=params.oil_pressure, outlet_pressure=params.air_pressure
-    )
-
-
-def snes_type(fp: FilmParams) -> str:
-    """The Newton type of a film's cavitation model."""
-    return {"jfo": "vinewtonssls", "reynolds": "vinewtonrsls"}.get(fp.cavitation, "newtonls")
+        params.film, cavitation="none", inlet_pressure=params.oil_pressure,
+        outlet_pressure=params.air_pressure,
+    )  # fmt: skip
 
 
 def _installed(params: LipStaticParameters) -> tuple[RevolvedState, dict[str, float], Any]:
@@ -522,7 +486,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         film=film,
         limits=StepLimits(max_step=0.5 * h, max_normal_step=0.5 * h),  # half an element
         # rtol 1e-13 as the lip's: the band's film rows converge with the solid's only there
-        snes=SNESOptions(max_it=60, rtol=1e-13, snes_type=snes_type(fp)), periodic=periodic,
+        snes=SNESOptions(max_it=60, rtol=1e-13), periodic=periodic,
         name=params.scene_name,
     )  # fmt: skip
     _set_installed(prob, revolved)
@@ -533,14 +497,9 @@ def build(params: LipStaticParameters) -> SectorLip:
     closing = surface_gap_limiter(prob, GAP_CLOSURE, law.h_rms / law.alpha)
     prob.solver.step_limiter = lambda x, dx: min(own(x, dx) if own else 1.0, closing(x, dx))
     film.set_edge_pressures(0.0, 0.0)
-    if film.has_couette:  # a sliding shaft: pressurised at a slow speed, then walked up
-        film.set_speed(start_speed(params.film.speed))
     out = SectorLip(prob, tm, rough, scale, installed, mp.angle)
     if not params.feedback:
-        out.film_only = film.make_solver(
-            dataclasses.replace(prob.solver.options, snes_type=snes_type(fp)),
-            name=f"{params.scene_name} film",
-        )
+        out.film_only = film.make_solver(prob.solver.options, name=f"{params.scene_name} film")
     del inst
     return out
 
@@ -754,49 +713,6 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         **lub.roughness.info(),
         **lub.installed,
     }
-    if film.has_theta:
-        cav = _cavitated_area(lub)
-        out["cavitation_fraction"] = cav / band_area
-    if film.has_couette:
-        out.update(_sliding_results(lub, params, band_area))
-    return out
-
-
-def dimensionless_speed(params: LipStaticParameters, speed: float) -> float:
-    """S0's reduced sliding speed ``U~ = 6 eta U lambda_0 / (2 G h_rms^2)`` (S0 eq 14;
-    G = E / (2 (1 + nu)) the shear modulus, h_rms of the whole spectrum)."""
-    m = params.material
-    G = m.E / (2.0 * (1.0 + m.nu))
-    return (
-        6.0
-        * params.film.viscosity
-        * speed
-        * params.wavelength
-        / (2.0 * G * params.roughness.h_rms**2)
-    )
-
-
-def _sliding_results(
-    lub: SectorLip, params: LipStaticParameters, band_area: float
-) -> dict[str, Any]:
-    """``dimensionless_speed``, ``pumping_rate`` (at equal sealed pressures: the flow
-    from the air side to the oil side, positive for a seal that pumps back) and
-    ``counter_gradient_fraction`` (with a pressure drop: the band area whose axial
-    flux runs from the air side to the oil side, against the drop, S0 fig 12)."""
-    from dolfinx_seal.scenes.lip_sector_maps import band_quantities
-
-    prob = lub.problem
-    speed = float(prob.film.speed.value)
-    out: dict[str, Any] = {"dimensionless_speed": dimensionless_speed(params, speed)}
-    _, q_air = _flows(lub)
-    if params.oil_pressure == params.air_pressure:
-        out["pumping_rate"] = -q_air
-    else:
-        qz = band_quantities(lub)["flux_axial"]
-        sign = 1.0 if params.oil_pressure > params.air_pressure else -1.0
-        against = ufl.conditional(ufl.lt(sign * qz, 0.0), 1.0, 0.0)
-        area = prob.integrate(against * prob.film.da, prob.ds_c) * lub.per_revolution
-        out["counter_gradient_fraction"] = area / band_area
     return out
 
 
@@ -813,60 +729,18 @@ def _slaves(prob: SolidContactProblem) -> int:
     return total
 
 
-def _cavitated_area(lub: SectorLip) -> float:
-    film = lub.problem.film
-    cav = ufl.conditional(ufl.lt(film.theta_fn, 1.0 - 1e-8), 1.0, 0.0)
-    return lub.problem.integrate(cav * film.da, lub.problem.ds_c) * lub.per_revolution
-
-
 # ---------------------------------------------------------------- run, sweep
 def solve_point(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
-    """Dry equilibrium with the roughness, then the sealed pressures, then (sliding)
-    the shaft speed; the results."""
+    """Dry equilibrium with the roughness, then the sealed pressures; the results."""
     t0 = time.perf_counter()
     dry = solve_dry(lub, params)
     pr = solve_pressures(lub, params)
-    sp = solve_speed(lub, params)
     res = results(lub, params)
     res.update(dry)
-    res.update(pressure_steps=pr["pressure_steps"], speed_steps=sp["continuation_steps"],
-               newton_iterations=(dry["dry_newton_iterations"] + pr["newton_iterations"]
-                                  + sp["newton_iterations"]),
+    res.update(pressure_steps=pr["pressure_steps"],
+               newton_iterations=dry["dry_newton_iterations"] + pr["newton_iterations"],
                solve_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
     return res
-
-
-#: m/s: the sliding sector is pressurised at this shaft speed (or slower), where
-#: the Couette flux is a small part of the static film's, then walked up
-START_SPEED = 1e-3
-
-
-def start_speed(speed: float) -> float:
-    """The shaft speed [m/s] a sliding sector is pressurised at before it walks to ``speed``."""
-    return min(speed, START_SPEED)
-
-
-def solve_speed(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
-    """Walk the shaft speed from its start to ``film.speed`` (speed continuation,
-    :func:`~dolfinx_seal.coupled.continuation.speed_sweep`); nothing at zero speed.
-
-    Raises:
-        SolverError: the target was not reached (``partial``: the speed reached).
-    """
-    film = lub.problem.film
-    target = params.film.speed
-    if not film.has_couette or float(film.speed.value) == target:
-        return {"newton_iterations": 0, "continuation_steps": 0}
-    t0 = time.perf_counter()
-    recs = speed_sweep(lub.problem, [target], lambda *_: None, dict, params.stepping)
-    if not recs[-1].converged:
-        raise SolverError(
-            f"the sector did not reach film.speed = {target:g} m/s: {recs[-1].error}",
-            where=f"{lub.problem.name} speed continuation",
-            partial={"speed": float(film.speed.value)},
-        )
-    return {"newton_iterations": recs[-1].newton_iterations,
-            "continuation_steps": recs[-1].steps, "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
 
 def run(params: LipStaticParameters, out: Path) -> dict[str, Any]:
@@ -885,23 +759,18 @@ def run(params: LipStaticParameters, out: Path) -> dict[str, Any]:
     return res
 
 
-SWEEPABLE = ("oil_pressure", "film.speed")
+SWEEPABLE = ("oil_pressure",)
 
 
 def sweep(
     params: LipStaticParameters, out: Path, name: str, values: list[float], on_point: Any
 ) -> list[dict[str, Any]]:
     """Over ``oil_pressure``: one sector, each point from the last (ascending); over
-    ``film.speed`` (``lip-dynamic``): one sector pressurised at the start speed,
-    then speed continuation through the speeds in ascending order (each target
-    converged or recorded in ``sweep_failures.csv``); over any other parameter:
-    each point built and solved afresh (a failed one is recorded and the sweep
-    goes on)."""
+    any other parameter: each point built and solved afresh (a failed one is
+    recorded and the sweep goes on)."""
     from dolfinx_seal.scenes.lip_sector_maps import write_maps
 
     rows: list[dict[str, Any]] = []
-    if name == "film.speed":
-        return _speed_sweep(params, out, values, on_point)
     if name not in SWEEPABLE:
         for v in values:
             pv = set_parameter(params, name, v)
@@ -934,45 +803,6 @@ def sweep(
     return rows
 
 
-def _speed_sweep(
-    params: LipStaticParameters, out: Path, values: list[float], on_point: Any
-) -> list[dict[str, Any]]:
-    """The speed sweep of ``lip-dynamic`` (:func:`sweep`)."""
-    from dolfinx_seal.output import write_sweep_failures
-    from dolfinx_seal.scenes.lip_sector_maps import write_maps
-
-    speeds = sorted(float(v) for v in values)
-    p0 = set_parameter(params, "film.speed", speeds[0])  # refuses a speed <= 0
-    rows: list[dict[str, Any]] = []
-    failed: list[dict[str, Any]] = []
-    lub = build(p0)
-    try:
-        t0 = time.perf_counter()
-        dry = solve_dry(lub, p0)
-        pr = solve_pressures(lub, p0)
-        first = {**dry, "pressure_steps": pr["pressure_steps"],
-                 "newton_iterations": dry["dry_newton_iterations"] + pr["newton_iterations"]}  # fmt: skip
-
-        def point(v: float, r: dict[str, Any]) -> None:
-            pv = set_parameter(params, "film.speed", v)
-            rr = results(lub, pv)
-            extra = first if not rows else {"newton_iterations": 0}
-            rr.update(extra)
-            rr["newton_iterations"] += int(r.get("newton_iterations", 0))
-            rr.update(continuation_steps=r.get("continuation_steps", 0), converged=True,
-                      wall_time_s=r.get("wall_time_s", time.perf_counter() - t0))  # fmt: skip
-            rows.append(rr)
-            on_point(v, rr)
-            write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
-
-        recs = speed_sweep(lub.problem, speeds, point, dict, params.stepping)
-        failed += [{"speed": r.speed, "error": r.error} for r in recs if not r.converged]
-    finally:
-        lub.destroy()
-    write_sweep_failures(out, failed)
-    return rows
-
-
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
     """``sweep.png``: leakage (and the fluid load) against the swept parameter."""
     import matplotlib
@@ -980,24 +810,11 @@ def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    x = np.array([r.get(name, r.get("speed")) for r in rows], dtype=float)
-    if name == "film.speed":
-        fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.0))
-        for key, style in (("friction_torque", "ko-"), ("friction_torque_couette", "b^--"),
-                           ("friction_torque_asperity", "rs--")):  # fmt: skip
-            ax.loglog(x, [abs(r.get(key, np.nan)) for r in rows], style, ms=4, label=key)
-        ax.set_xlabel("shaft surface speed [m/s]")
-        ax.set_ylabel("friction torque [N m]")
-        ax.legend(frameon=False, fontsize=8)
-        key = "pumping_rate" if "pumping_rate" in rows[0] else "leakage_rate"
-        ax2.semilogx(x, [r[key] for r in rows], "ko-", ms=4)
-        ax2.set_xlabel("shaft surface speed [m/s]")
-        ax2.set_ylabel(f"{key} [m^3/s]")
-    else:
-        fig, ax = plt.subplots(figsize=(6.4, 4.0))
-        ax.plot(x, [r["leakage_rate"] for r in rows], "ko-", ms=4)
-        ax.set_xlabel(name)
-        ax.set_ylabel("leakage rate [m^3/s]")
+    x = np.array([r[name] if name in r else r["oil_pressure"] for r in rows], dtype=float)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    ax.plot(x, [r["leakage_rate"] for r in rows], "ko-", ms=4)
+    ax.set_xlabel(name)
+    ax.set_ylabel("leakage rate [m^3/s]")
     fig.tight_layout()
     fig.savefig(Path(out_dir) / "sweep.png", dpi=120)
     plt.close(fig)
@@ -1011,19 +828,9 @@ SCENE = Scene(
     sweep=lambda *a: sweep(*a),
     plot_sweep=lambda *a: plot_sweep(*a),
 )
-DYNAMIC_SCENE = Scene(
-    name="lip-dynamic",
-    summary="lip seal sector on a turning shaft (S0): JFO film, friction torque, pumping",
-    parameters=LipDynamicParameters,
-    run=run,
-    sweep=lambda *a: sweep(*a),
-    plot_sweep=lambda *a: plot_sweep(*a),
-)
 
 __all__ = [
-    "DYNAMIC_SCENE",
     "SCENE",
-    "LipDynamicParameters",
     "LipStaticParameters",
     "SectorLip",
     "SectorParams",
