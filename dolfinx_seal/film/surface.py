@@ -251,7 +251,12 @@ class SurfaceFilm:
         self.has_transport = self.has_couette and ctx.transport
         S = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
         self.S = S
-        self.P = dolfinx.fem.Function(S, name="fluid_pressure_scaled")
+        # off the lubricated surface and on its edges the pressure is prescribed
+        fixed, edge = self._fixed_dofs(ctx)
+        pinned = np.union1d(fixed, edge).astype(np.int32)
+        self.bcs = [dolfinx.fem.dirichletbc(self._boundary_pressure(ctx, edge), pinned)]
+        self.constraints: list[Any] = []  # periodic: one constraint per film unknown
+        self.P = self._unknown(S, self.bcs[:1], "fluid_pressure_scaled")
         q = ufl.TestFunction(S)
         self.p = sc.pressure * self.P  # [Pa]
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=ctx.facet_tags)
@@ -293,7 +298,10 @@ class SurfaceFilm:
             # a space of its own: blocked assembly matches Dirichlet conditions to
             # blocks by function space, so theta must not share the pressure's
             self.S_theta = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
-            self.theta_fn = dolfinx.fem.Function(self.S_theta, name="film_fraction")
+            one = dolfinx.fem.Function(self.S_theta)
+            one.x.array[:] = 1.0
+            self.bcs.append(dolfinx.fem.dirichletbc(one, pinned))
+            self.theta_fn = self._unknown(self.S_theta, self.bcs[-1:], "film_fraction")
             self.theta_fn.x.array[:] = 1.0
             self.theta: Any = self.theta_fn
         else:
@@ -329,24 +337,25 @@ class SurfaceFilm:
         self.blocks: list[tuple[Any, dolfinx.fem.Function, Any, Any]] = [
             (self.R_P, self.P, bound_lo, None)
         ]
-        fixed, edge = self._fixed_dofs(ctx)
-        self.bcs = [
-            dolfinx.fem.dirichletbc(
-                self._boundary_pressure(ctx, edge), np.union1d(fixed, edge).astype(np.int32)
-            )
-        ]
         self.film_dofs_local = np.setdiff1d(
-            np.arange(S.dofmap.index_map.size_local, dtype=np.int32), np.union1d(fixed, edge)
+            np.arange(S.dofmap.index_map.size_local, dtype=np.int32), pinned
         )
         if self.has_theta:
             psi = ufl.TestFunction(self.S_theta)
             R_t = -sc.pressure * self.P * psi * self.ds_vertex
             R_t += dolfinx.fem.Constant(mesh, 0.0) * self.theta_fn * psi * dx
             self.blocks.append((R_t, self.theta_fn, 0.0, 1.0))
-            one = dolfinx.fem.Function(self.S_theta)
-            one.x.array[:] = 1.0
-            self.bcs.append(dolfinx.fem.dirichletbc(one, np.union1d(fixed, edge).astype(np.int32)))
         self.p_cont = p_cont
+
+    def _unknown(self, V: Any, bcs: Sequence[Any], name: str) -> dolfinx.fem.Function:
+        """A film unknown on ``V``, or, on a periodic surface, on the space of its
+        periodic constraint (appended to :attr:`constraints`; ``bcs`` are never slaves)."""
+        periodic = self.ctx.periodic
+        if periodic is None:
+            return dolfinx.fem.Function(V, name=name)
+        mpc = periodic.scalar(V, bcs)
+        self.constraints.append(mpc)
+        return dolfinx.fem.Function(mpc.function_space, name=name)
 
     def _boundary_pressure(self, ctx: SurfaceState, edge: np.ndarray) -> dolfinx.fem.Function:
         """Scaled boundary pressure: inlet value on upstream edge dofs, outlet downstream, 0 off the film."""
@@ -465,20 +474,26 @@ class SurfaceFilm:
         """A :class:`~dolfinx_seal.solvers.NonlinearSolver` on the film unknowns alone
         (geometry frozen), optionally with further ``(residual, unknown, lower, upper)``
         blocks (e.g. the counter position)."""
-        from dolfinx_seal.solvers import NonlinearSolver
+        from dolfinx_seal.solvers import NonlinearSolver, ProjectedMPCAssembly
 
         fb = list(self.blocks) + list(extra_blocks)
         lower = [b[2] for b in fb]
         upper = [b[3] for b in fb]
         bounded = any(v is not None for v in lower + upper)
+        assembly = None
+        if self.constraints:  # periodic: extra blocks (a real unknown) have none
+            cons = self.constraints + [None] * len(extra_blocks)
+            assembly = ProjectedMPCAssembly(cons[0] if len(fb) == 1 else cons)
         if len(fb) == 1:
             return NonlinearSolver(
                 fb[0][0], fb[0][1], self.bcs, options=options, name=name,
                 lower=lower[0] if bounded else None, upper=upper[0] if bounded else None,
+                assembly=assembly,
             )  # fmt: skip
         return NonlinearSolver(
             [b[0] for b in fb], [b[1] for b in fb], self.bcs, options=options, name=name,
             lower=lower if bounded else None, upper=upper if bounded else None,
+            assembly=assembly,
         )  # fmt: skip
 
     @staticmethod

@@ -43,6 +43,7 @@ REGISTRY: dict[str, str] = {
     "ball": "dolfinx_seal.scenes.ball",
     "lip-install": "dolfinx_seal.scenes.lip_install",
     "lip": "dolfinx_seal.scenes.lip",
+    "lip-static": "dolfinx_seal.scenes.lip_sector",
 }
 
 #: A point callback of a sweep: receives the sweep value and the results of the point.

@@ -83,19 +83,22 @@ class ContactLawParams:
         check_range("contact.stiff_length", self.stiff_length, 0.0, 1e-3, unit="m (0 = automatic)")
 
     def build(
-        self, roughness: RoughnessParams, e_star: float, approach: float = 1e-5
+        self, roughness: RoughnessParams, e_star: float, approach: float = 1e-5, psd: Any = None
     ) -> tuple[Any, dict[str, float]]:
         """The contact law (with a UFL form) and scalars describing it.
 
         ``approach`` [m] is the Hertz approach ``a^2/R`` of the scene, which sets
-        the automatic decay length of the ``stiff`` law.
+        the automatic decay length of the ``stiff`` law.  ``psd``: the spectrum of
+        the homogenised roughness when it is not the whole of ``roughness`` (the
+        part above ``q_th`` of a two-scale scene, S0 eqs 15-21); default
+        ``roughness.build()``.
         """
         if self.model == "none":
             return None, {}
         if self.model == "stiff":
             length = self.stiff_length or 1e-3 * approach
             return PerssonExponentialLaw(1.0, 1.0, e_star, length), {"stiff_length": length}
-        psd = roughness.build()
+        psd = roughness.build() if psd is None else psd
         if self.model == "exponential":
             law = PerssonExponentialLaw.from_psd(psd, e_star, self.gamma)
             return law, {"alpha": law.alpha, "beta": law.beta}

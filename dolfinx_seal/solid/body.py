@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,12 +24,15 @@ class Dirichlet:
     Attributes:
         tag: Facet tag.
         component: Displacement component (``None``: all components).
-        value: Prescribed displacement [m].
+        value: Prescribed displacement [m]: a number, or a field given as a callable
+            ``f(x) -> values`` of the points ``x`` (3 x n) as
+            :meth:`dolfinx.fem.Function.interpolate` takes it (``gdim x n`` values for
+            all components, ``n`` for one), e.g. an installed state imposed on a cut.
     """
 
     tag: int
     component: int | None = None
-    value: float = 0.0
+    value: float | Callable[[Any], Any] = 0.0
 
 
 @dataclass(frozen=True)

@@ -10,11 +10,13 @@ of the rigid body (pointing into the rubber):
 * :class:`Shaft` -- a cylinder of radius ``radius`` around the z axis in
   axisymmetric (r, z) coordinates with the rubber outside it
   (``gap = r - radius``); the interference fit is applied by growing the radius.
+* :class:`Shaft3D` -- the same shaft in 3D Cartesian coordinates (a periodic
+  sector of a lip around it): ``gap = (x^2 + y^2)^(1/2) - radius``, whose normal
+  (radial) and sliding direction (circumferential) vary over the surface.
+* :class:`WithSurfaceHeight` -- any of them seen from a body whose surface
+  carries a resolved roughness height ``h(X)`` (S0 eq 1): the gap grows by ``h``.
 
-Both follow :class:`CounterSurface`, the protocol the contact problem relies on:
-a new counter-surface (a shaft seen from a rotated periodic 3D sector, whose
-normal and sliding direction vary over the surface) implements the same five
-members and needs no change in the problem.
+All follow :class:`CounterSurface`, the protocol the contact problem relies on.
 """
 
 from __future__ import annotations
@@ -155,3 +157,87 @@ class Shaft:
     def transports(self) -> bool:
         """Whether the sliding carries fluid across the (axisymmetric) film."""
         return self.motion == "axial"
+
+
+@dataclass(frozen=True)
+class Shaft3D:
+    """A rigid shaft about the z axis in 3D Cartesian coordinates, rubber outside.
+
+    The position is the shaft radius [m].  The shaft turns: its surface slides
+    along the circumference, ``e_theta = (-y, x, 0) / r`` (counter-clockwise about
+    +z for a positive speed), which carries fluid across a film whose gap varies
+    along the circumference (a rough band), so :attr:`transports` is true.
+
+    ``normal_axis`` is 0 (x): the Newton step limit on the normal component
+    (:class:`~dolfinx_seal.solid.step_limits.StepLimits`) acts on ``u_x``, which
+    is the radial component to within ``1 - cos(theta/2)`` on a narrow sector
+    centred on the x axis (3e-6 for the lip sector of one 200 um period on an
+    80 mm shaft).
+    """
+
+    def gap(self, x: Any, radius: Any) -> Any:
+        """Gap [m] between the current radius of ``x`` and the shaft surface."""
+        return ufl.sqrt(x[0] ** 2 + x[1] ** 2) - radius
+
+    def normal(self, x: Any) -> Any:
+        """Radial unit vector at ``x`` (into the rubber)."""
+        r = ufl.sqrt(x[0] ** 2 + x[1] ** 2)
+        return ufl.as_vector([x[0] / r, x[1] / r, 0.0])
+
+    def sliding_direction(self, x: Any) -> Any:
+        """Circumferential unit vector ``e_theta`` at ``x``."""
+        r = ufl.sqrt(x[0] ** 2 + x[1] ** 2)
+        return ufl.as_vector([-x[1] / r, x[0] / r, 0.0])
+
+    def edge_axis(self) -> tuple[float, float, float]:
+        """The shaft axis orders the film's edges: oil side (z < 0) low, air side high."""
+        return (0.0, 0.0, 1.0)
+
+    @property
+    def normal_axis(self) -> int:
+        return 0
+
+    @property
+    def transports(self) -> bool:
+        return True
+
+
+@dataclass(frozen=True)
+class WithSurfaceHeight:
+    """A counter-surface seen from a body whose surface carries a resolved height.
+
+    S0 eq 1: the mean separation is ``u_r + h_r + w_3``, the macroscopic shape
+    and the displacement (here the current position ``x``) plus the
+    deterministic roughness ``h_r`` of the rubber surface, a field of its
+    reference (material) coordinates that rides with the surface.  ``height`` is
+    that field as UFL [m]; positive opens the gap (a valley of the rubber
+    surface).  Everything else is the wrapped counter-surface's.
+
+    Attributes:
+        base: The counter-surface (:class:`CounterSurface`).
+        height: ``h_r(X)`` [m] (UFL, of the reference coordinates).
+    """
+
+    base: Any
+    height: Any
+
+    def gap(self, x: Any, position: Any) -> Any:
+        """The base gap [m] plus the surface height."""
+        return self.base.gap(x, position) + self.height
+
+    def normal(self, x: Any) -> Any:
+        return self.base.normal(x)
+
+    def sliding_direction(self, x: Any) -> Any:
+        return self.base.sliding_direction(x)
+
+    def edge_axis(self) -> tuple[float, float, float] | None:
+        return self.base.edge_axis()
+
+    @property
+    def normal_axis(self) -> int:
+        return self.base.normal_axis
+
+    @property
+    def transports(self) -> bool:
+        return self.base.transports

@@ -43,7 +43,7 @@ from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionContr
 from dolfinx_seal.solid.counter_surface import CounterSurface
 from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solid.step_limits import StepLimits, displacement_limiter, rigid_gap_limiter
-from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+from dolfinx_seal.solvers import NonlinearSolver, ProjectedMPCAssembly, SNESOptions
 from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl, restore_arrays, secant
 from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import contact_pressure
@@ -124,6 +124,12 @@ class SolidContactProblem:
         snes: Newton options.
         extra_residual: Optional ``f(problem) -> ufl.Form`` added to the
             displacement residual (a scene's own term, e.g. a garter spring).
+        periodic: Optional periodicity of a sector (e.g.
+            :class:`~dolfinx_seal.solvers.periodic.RotationalPeriodicity`): the
+            displacement (and mixed pressure) and the film's unknowns are
+            constrained periodic (dolfinx_mpc), and the Newton system is assembled
+            with :class:`~dolfinx_seal.solvers.assembly.ProjectedMPCAssembly`; the unknowns
+            then live on the constraints' spaces (:attr:`constraints`, one per block).
         name: Named in logs and errors.
 
     The residual is the sum of the named terms :meth:`_bulk_residual`,
@@ -145,6 +151,7 @@ class SolidContactProblem:
         limits: StepLimits | None = None,
         snes: SNESOptions | None = None,
         extra_residual: Callable[[SolidContactProblem], Any] | None = None,
+        periodic: Any = None,
         name: str = "solid",
     ) -> None:
         if law is None and film is None:
@@ -164,6 +171,8 @@ class SolidContactProblem:
         gdim = mesh.geometry.dim
         cell = mesh.basix_cell()
         self.mixed = self.bulk and material.mixed
+        self.periodic = periodic
+        self._body_constraint: Any = None
         self.W: Any = None
         self.w: Any = None
         vw: Any = None
@@ -174,7 +183,13 @@ class SolidContactProblem:
                 self.W = dolfinx.fem.functionspace(mesh, basix.ufl.mixed_element([Ve, Qe]))
             else:
                 self.W = dolfinx.fem.functionspace(mesh, Ve)
-            self.w = dolfinx.fem.Function(self.W, name="state")
+            # a periodic body: its unknowns live on the constraint's space (more ghosts)
+            space = self.W
+            if periodic is not None:
+                self._dirichlet_bcs = self._dirichlet(body.dirichlet)
+                self._body_constraint = periodic.body(self.W, material.mixed, self._dirichlet_bcs)
+                space = self._body_constraint.function_space
+            self.w = dolfinx.fem.Function(space, name="state")
             vw = ufl.TestFunction(self.W)
             if material.mixed:
                 self.u, self.p_mix = ufl.split(self.w)
@@ -237,6 +252,7 @@ class SolidContactProblem:
                     self.gap, kinematics.vector3, self.e_n, counter.sliding_direction(self.x), sqd,
                     edge_axis=counter.edge_axis(), transport=counter.transports,
                     roughness_scale=self.roughness_scale,
+                    periodic=periodic,
                 ),
                 p_cont=self.p_cont,
             )  # fmt: skip
@@ -254,7 +270,8 @@ class SolidContactProblem:
             if self.extra is not None:
                 R_w += self.extra
             blocks.append((R_w, self.w, None, None))
-            self._dirichlet_bcs = self._dirichlet(body.dirichlet)
+            if periodic is None:
+                self._dirichlet_bcs = self._dirichlet(body.dirichlet)
             self.bcs += self._dirichlet_bcs
         if film is not None:
             blocks += film.blocks
@@ -286,6 +303,11 @@ class SolidContactProblem:
             facets = self.facet_tags.find(c.tag)
             if c.component is None and not self.material.mixed:  # the whole space
                 dofs = dolfinx.fem.locate_dofs_topological(Vu, fdim, facets)
+                if callable(c.value):  # a field
+                    g = dolfinx.fem.Function(Vu)
+                    g.interpolate(c.value)
+                    bcs.append(dolfinx.fem.dirichletbc(g, dofs))
+                    continue
                 value = np.full(self.mesh.geometry.dim, c.value, dtype=dolfinx.default_scalar_type)
                 bcs.append(dolfinx.fem.dirichletbc(value, dofs, Vu))
                 continue
@@ -293,7 +315,10 @@ class SolidContactProblem:
             collapsed, _ = sub.collapse()
             dofs = dolfinx.fem.locate_dofs_topological((sub, collapsed), fdim, facets)
             g = dolfinx.fem.Function(collapsed)
-            g.x.array[:] = c.value
+            if callable(c.value):  # a field
+                g.interpolate(c.value)
+            else:
+                g.x.array[:] = c.value
             bcs.append(dolfinx.fem.dirichletbc(g, dofs, sub))
         return bcs
 
@@ -349,6 +374,26 @@ class SolidContactProblem:
         )
         return self.normal_force_integrand() * mu * self.ds_c - self.load / vol * mu * self.dx
 
+    @property
+    def constraints(self) -> list[Any] | None:
+        """The multi-point constraint of each block (None for a block without one:
+        the counter position), or None for a problem that is not periodic."""
+        if self.periodic is None:
+            return None
+        out: list[Any] = [self._body_constraint] if self.bulk else []
+        if self.film is not None:
+            out += list(self.film.constraints)
+        if self.control == "force":
+            out.append(None)
+        return out
+
+    def _assembly(self) -> Any:
+        """The assembly strategy of the solvers: plain, or with the periodic constraints."""
+        cons = self.constraints
+        if cons is None:
+            return None
+        return ProjectedMPCAssembly(cons[0] if len(cons) == 1 else cons)
+
     def _make_solver(self, opts: SNESOptions, limiter: Any) -> NonlinearSolver:
         blocks = self.blocks
         has_bounds = any(b[2] is not None or b[3] is not None for b in blocks)
@@ -358,11 +403,11 @@ class SolidContactProblem:
             return NonlinearSolver(
                 blocks[0][0], blocks[0][1], self.bcs, lower=lower[0] if lower else None,
                 upper=upper[0] if upper else None, options=opts, name=self.name,
-                step_limiter=limiter,
+                step_limiter=limiter, assembly=self._assembly(),
             )  # fmt: skip
         return NonlinearSolver(
             [b[0] for b in blocks], [b[1] for b in blocks], self.bcs, lower=lower, upper=upper,
-            options=opts, name=self.name, step_limiter=limiter,
+            options=opts, name=self.name, step_limiter=limiter, assembly=self._assembly(),
         )  # fmt: skip
 
     def step_limiter(self, blocks: Sequence[Any] | None = None) -> Any:
@@ -537,6 +582,7 @@ class SolidContactProblem:
             # huge volumetric stiffness and needs damped steps from the undeformed state;
             # the mixed form converges in 3-4 full steps at any mesh size
             step_limiter=None if self.material.mixed else self._max_step_limiter,
+            assembly=self._body_assembly(),
         )  # fmt: skip
         hist = pre.solve()
         pre.destroy()
@@ -546,6 +592,12 @@ class SolidContactProblem:
         if self.control == "force":
             self.position.x.array[:] = lowest - peak_separation
         return hist.newton_iterations
+
+    def _body_assembly(self) -> Any:
+        """The assembly of a solver on the body's unknowns alone."""
+        if self._body_constraint is None:
+            return None
+        return ProjectedMPCAssembly(self._body_constraint)
 
     # ---------------------------------------------------------------- results
     def contact_force(self) -> float:

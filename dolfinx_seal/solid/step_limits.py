@@ -153,6 +153,73 @@ def displacement_limiter(
     return limit
 
 
+def surface_gap_limiter(
+    prob: Any, closure: float, floor: float
+) -> Callable[[np.ndarray, np.ndarray], float]:
+    """Pre-check limiting how much a Newton step closes the contact gaps, with the gap
+    and the counter normal evaluated from the problem itself (``prob.gap`` and
+    ``prob.counter.normal``), for counter-surfaces whose normal is no coordinate
+    axis and gaps that carry a resolved roughness (:class:`~dolfinx_seal.solid.counter_surface.Shaft3D`,
+    :class:`~dolfinx_seal.solid.counter_surface.WithSurfaceHeight`), where
+    :func:`displacement_limiter`'s ``closure`` (a coordinate minus the position)
+    does not apply.
+
+    At each contact node of the displacement (fixed counter position) the step
+    changes the gap by ``dg = n . du``; it may close a positive gap by at most the
+    fraction ``closure`` of itself and open it by at most ``1 / (1 - closure)``, or
+    change it by ``floor`` [m], whichever is larger; a gap at or below zero may open
+    freely.  The current state is the one the problem's functions hold (the
+    solver evaluated its residual and Jacobian there before the step).
+    """
+    import dolfinx.fem as fem
+    import dolfinx.mesh as dmesh
+
+    from dolfinx_seal.compat import interpolation_points
+
+    check_range("closure", closure, 0.0, 1.0, lo_open=True, hi_open=True)
+    check_positive("floor", floor, "m")
+    Vu = prob.W.sub(0) if prob.material.mixed else prob.W
+    n_own = prob.W.dofmap.index_map.size_local * prob.W.dofmap.index_map_bs
+    gdim = prob.mesh.geometry.dim
+    fdim = prob.mesh.topology.dim - 1
+    facets = prob.facet_tags.find(prob.contact_tag)
+    parents, nodes = [], None
+    for c in range(gdim):
+        sub = Vu.sub(c)
+        collapsed, _ = sub.collapse()
+        parent, cd = fem.locate_dofs_topological((sub, collapsed), fdim, facets)
+        keep = parent < n_own
+        parents.append(np.asarray(parent[keep]))
+        if nodes is None:
+            S, nodes = collapsed, np.asarray(cd[keep])
+    prob.mesh.topology.create_connectivity(fdim, prob.mesh.topology.dim)
+    cells = dmesh.compute_incident_entities(prob.mesh.topology, facets, fdim, fdim + 1)
+    pts = interpolation_points(S.element)
+    normal = prob.counter.normal(prob.x)
+    comm = prob.mesh.comm
+    exprs = [
+        fem.Expression(e, pts, comm=comm) for e in (prob.gap, *(normal[c] for c in range(gdim)))
+    ]
+    funcs = [fem.Function(S) for _ in exprs]
+
+    def limit(x: np.ndarray, dx: np.ndarray) -> float:
+        for f, e in zip(funcs, exprs, strict=True):
+            f.interpolate(e, cells0=cells)
+        g = funcs[0].x.array[nodes]
+        # PETSc steps x -> x - dx: the surface moves by -dx, the gap by n . (-dx)
+        dg = -sum(funcs[1 + c].x.array[nodes] * dx[parents[c]] for c in range(gdim))
+        gp = np.maximum(g, 0.0)
+        allowed = np.where(dg < 0.0, closure * gp, closure / (1.0 - closure) * gp)
+        allowed = np.maximum(allowed, floor)
+        allowed[(g <= 0.0) & (dg > 0.0)] = np.inf
+        moving = np.abs(dg) > allowed
+        if not moving.any():
+            return 1.0
+        return float((allowed[moving] / np.abs(dg[moving])).min())
+
+    return limit
+
+
 def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:
     """Pre-check for a rigid body under force control: one Newton step may change
     the smallest gap by at most half of itself (the film conductance ~ g^3
@@ -177,4 +244,4 @@ def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:
     return limit
 
 
-__all__ = ["StepLimits", "displacement_limiter", "rigid_gap_limiter"]
+__all__ = ["StepLimits", "displacement_limiter", "rigid_gap_limiter", "surface_gap_limiter"]

@@ -4,8 +4,10 @@ from dolfinx_seal.solvers.assembly import (
     Assembly,
     MPCAssembly,
     PlainAssembly,
+    ProjectedMPCAssembly,
     add_rotational_periodic_constraint,
 )
+from dolfinx_seal.solvers.periodic import RotationalPeriodicity
 from dolfinx_seal.solvers.snes import (
     NonlinearSolver,
     SNESOptions,
@@ -18,6 +20,8 @@ __all__ = [
     "MPCAssembly",
     "NonlinearSolver",
     "PlainAssembly",
+    "ProjectedMPCAssembly",
+    "RotationalPeriodicity",
     "SNESOptions",
     "add_rotational_periodic_constraint",
     "bounds_function",

@@ -24,11 +24,17 @@ positive and monotone:
   1e13 times the physical one) that their solutions were meaningless.
 
 Inside the window the expressions are the laws themselves.
+
+:class:`LawHomotopy` blends two laws, ``(1 - w) p_start + w p_end`` with a
+weight ``w`` (a Constant) walked from 0 to 1: a path from a state solved with
+one law to the same body with another (the two-scale lip sector goes from the
+whole spectrum homogenised to its part above ``q_th``).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import ufl
@@ -51,11 +57,34 @@ def _capped_exp(lnp: Any, ln_cap: float) -> Any:
     )
 
 
+@dataclass(frozen=True)
+class LawHomotopy:
+    """The blend ``(1 - w) p_start(g) + w p_end(g)`` of two laws (each positive and
+    decreasing in ``g``, so is the blend).  Every other attribute (``name``,
+    ``h_rms``, ``alpha``, ``rms_slope``, ...) is the end law's: at ``w = 1`` this is
+    the end law.
+
+    Attributes:
+        start, end: Laws with a UFL form (as :func:`contact_pressure` takes them).
+        weight: The weight ``w`` (a ``dolfinx.fem.Constant``, 0 to 1).
+    """
+
+    start: Any
+    end: Any
+    weight: Any
+
+    def __getattr__(self, name: str) -> Any:
+        if name in ("start", "end", "weight") or name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(self.end, name)
+
+
 def contact_pressure(law: Any, gap: Any, u_min: float = 1e-3, scale: Any = 1.0) -> Any:
     """UFL expression of the asperity contact pressure [Pa] at gap ``gap`` [m].
 
     Args:
-        law: A :class:`PerssonExponentialLaw` or :class:`ClosedFormPersson`.
+        law: A :class:`PerssonExponentialLaw`, :class:`ClosedFormPersson` or a
+            :class:`LawHomotopy` of two of them.
         gap: UFL expression of the mean separation [m].
         u_min: Lower end of the window, in units of ``h_rms`` (closed form only).
         scale: Amplitude scale ``s`` of the roughness (a float or a UFL
@@ -67,6 +96,11 @@ def contact_pressure(law: Any, gap: Any, u_min: float = 1e-3, scale: Any = 1.0) 
             to 0.2 %); it is the homotopy that installs a smooth surface from a
             rough one (:meth:`~dolfinx_seal.solid.problem.SolidContactProblem.walk_roughness`).
     """
+    if isinstance(law, LawHomotopy):
+        w = law.weight
+        return (1.0 - w) * contact_pressure(law.start, gap, u_min, scale) + w * contact_pressure(
+            law.end, gap, u_min, scale
+        )
     ln_s = math.log(scale) if isinstance(scale, int | float) else ufl.ln(scale)
     if isinstance(law, PerssonExponentialLaw):
         ln0 = math.log(law.beta * law.e_star) + ln_s

@@ -44,6 +44,10 @@ class SurfaceState:
             normal to every surface gradient (a turning shaft under an
             axisymmetric lip): the Couette shear still acts, the flux term is not
             assembled.
+        periodic: The periodicity of a sector (e.g.
+            :class:`~dolfinx_seal.solvers.periodic.RotationalPeriodicity`: its
+            ``scalar(V, bcs)`` gives a field's constraint), or None: the film's
+            unknowns are then constrained to be periodic too.
     """
 
     mesh: dolfinx.mesh.Mesh
@@ -61,6 +65,7 @@ class SurfaceState:
     edge_axis: Any = None
     transport: bool = True
     roughness_scale: Any = 1.0
+    periodic: Any = None
 
 
 __all__ = ["SurfaceState"]

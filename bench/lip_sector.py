@@ -1,0 +1,120 @@
+"""Benchmark: the periodic lip sector (scene ``lip-static``).
+
+* ``static``: one static point of the default sector (or with ``--set`` overrides):
+  unknowns, periodic slaves, Newton steps of each stage (sector equilibrium and
+  roughness homotopy, sealed pressures), wall time of each stage, MUMPS memory
+  (INFOG(21): largest on one rank, INFOG(22): total, MB) and the results.
+* ``levels``: the static point on several band resolutions (``--epw``, elements
+  per lambda_th): leakage, torque and radial load against run time, with
+  observed orders against the finest level.
+
+Writes ``bench/results/lip_sector_<mode>_np<ranks>.csv`` (one row per point,
+appended as each finishes) and prints a Markdown table on rank 0.
+
+Run::
+
+    scripts/dx python3 bench/lip_sector.py static
+    scripts/dx mpirun -n 2 python3 bench/lip_sector.py static
+    scripts/dx python3 bench/lip_sector.py levels --epw 2 3 4 --set roughness.q_th=3e5
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from dolfinx_seal.mpi import COMM_WORLD, print0
+from dolfinx_seal.output import SweepWriter
+from dolfinx_seal.params import parse_overrides
+from dolfinx_seal.scenes import lip_sector, make_parameters
+
+KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction", "h_min",
+        "max_contact_pressure", "mass_balance_error", "nodal_mass_balance_error")  # fmt: skip
+
+
+def mumps_memory(lub: Any) -> dict[str, float]:
+    """MUMPS INFOG(21) (largest on one rank) and INFOG(22) (total) [MB] of the last
+    factorisation of the coupled solver."""
+    try:
+        F = lub.problem.solver._snes.getKSP().getPC().getFactorMatrix()
+        return {
+            "mumps_mb_max": float(F.getMumpsInfog(21)),
+            "mumps_mb_total": float(F.getMumpsInfog(22)),
+        }
+    except Exception:  # not factored by MUMPS (yet)
+        return {}
+
+
+def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
+    """One point: build (install + sector), dry (+ roughness), pressures."""
+    p = make_parameters(scene, values=values)
+    t0 = time.perf_counter()
+    lub = lip_sector.build(p)
+    t_build = time.perf_counter() - t0
+    try:
+        dry = lip_sector.solve_dry(lub, p)
+        pr = lip_sector.solve_pressures(lub, p)
+        res = lip_sector.results(lub, p)
+        row = {
+            "ranks": COMM_WORLD.size, "dofs": res["dofs"], "periodic_slaves": res["periodic_slaves"],
+            "band_element": p.h_band, "elements_per_wavelength": p.sector.elements_per_wavelength,
+            "q_th": p.roughness.q_th, "deterministic_modes": res["deterministic_modes"],
+            "install_time_s": res["install_time_s"], "build_time_s": t_build,
+            "dry_newton": dry["dry_newton_iterations"], "roughness_steps": dry["roughness_steps"],
+            "dry_time_s": dry["dry_time_s"], "pressure_newton": pr["newton_iterations"],
+            "pressure_time_s": pr["solve_time_s"],
+            "wall_time_s": time.perf_counter() - t0, **mumps_memory(lub),
+        }  # fmt: skip
+        row.update({k: res[k] for k in KEYS})
+    finally:
+        lub.destroy()
+    return row
+
+
+def table(rows: list[dict[str, Any]]) -> str:
+    if not rows:
+        return "(no rows)"
+    keys = list(rows[0])
+    lines = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
+    for r in rows:
+        lines.append("| " + " | ".join(f"{r.get(k, ''):.4g}" if isinstance(r.get(k), float)
+                                       else str(r.get(k, "")) for k in keys) + " |")  # fmt: skip
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="periodic lip sector benchmarks")
+    ap.add_argument("mode", choices=("static", "levels"))
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--epw", type=float, nargs="+", default=[2.0, 3.0, 4.0])
+    ap.add_argument("--scene", default="lip-static")
+    ap.add_argument("--out", default="bench/results")
+    a = ap.parse_args(argv)
+    out = Path(a.out)
+    values = parse_overrides(a.set)
+    if a.mode == "static":
+        rows = [static_point(a.scene, values)]
+        SweepWriter(out, f"lip_sector_static_np{COMM_WORLD.size}.csv").append(rows[0])
+    else:
+        rows = []
+        writer = SweepWriter(out, f"lip_sector_levels_np{COMM_WORLD.size}.csv")
+        for e in a.epw:
+            v = parse_overrides([*a.set, f"sector.elements_per_wavelength={e}"])
+            rows.append(static_point(a.scene, v))
+            writer.append(rows[-1])
+            print0(f"  epw {e:g}: {rows[-1]['dofs']} unknowns, {rows[-1]['wall_time_s']:.0f} s")
+        fine = rows[-1]
+        for r in rows:
+            for k in ("leakage_rate", "friction_torque", "radial_load"):
+                r[f"{k}_vs_finest"] = r[k] / fine[k] - 1.0
+    print0(table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
