@@ -40,7 +40,7 @@ def test_jacobian_matches_finite_differences(cavitation):
     h = m.gap(p, u0)
     film = m._film_diagonal(h, 1.0) * m.p_scale
     z = np.concatenate([p / m.p_scale, [u0 / h.min()]])
-    res, jac, _ = m._system(z, 1.0, film, float(h.min()))
+    _res, jac, _ = m._system(z, 1.0, film, float(h.min()))
     # the rows whose min(p, r) picks the other branch within the step are kinks
     smooth = np.ones(m.n + 1, dtype=bool)
     if cavitation == "reynolds":
