@@ -5,7 +5,10 @@ h_rms = 1 um), the demo mesh (contact elements a_Hertz / 15), the first
 ``--points`` speeds of the 30-speed sweep from 1 to 0.01 m/s (equal ratios), run
 once per lever.  A lever is a set of PETSc options given to every solver of the
 scene (:func:`dolfinx_seal.solvers.extra_petsc_options`): the MUMPS ordering,
-block low-rank factorisation, ...  For each lever the run records, from PETSc's
+block low-rank factorisation, ...; or of the wrapper's own solver fields
+(:func:`dolfinx_seal.solvers.solver_session`): the fixed-pattern semismooth VI,
+the kept factorisation.  For each lever the run records the numbers of analyses,
+numeric factorisations and triangular solves (load-independent counts) and, from PETSc's
 own event log (this rank's times), the time per Newton step of the Jacobian
 assembly, the symbolic (analysis) and numeric factorisations and the triangular
 solves, the Newton steps of each point, the wall time, and the largest relative
@@ -36,7 +39,7 @@ from demos.ball_stribeck import parameters
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import sweep_scene
-from dolfinx_seal.solvers import extra_petsc_options
+from dolfinx_seal.solvers import extra_petsc_options, solver_session
 
 #: the levers: name -> PETSc options (without prefix) for every solver of the scene
 LEVERS: dict[str, dict[str, Any]] = {
@@ -48,6 +51,18 @@ LEVERS: dict[str, dict[str, Any]] = {
     # block low-rank factorisation, compression threshold 1e-8 (a direct solve to
     # about that accuracy: Newton then converges linearly at that rate at worst)
     "blr": {"mat_mumps_icntl_35": 1, "mat_mumps_cntl_7": 1e-8},
+    "semismooth": {},
+    "semismooth-reuse": {},
+}
+
+#: the levers' :class:`~dolfinx_seal.solvers.SNESOptions` fields for every solver
+#: of the scene (:func:`dolfinx_seal.solvers.solver_session`): the wrapper's
+#: fixed-pattern semismooth VI (one analysis for the whole sweep), then with the
+#: factorisation kept as GMRES's right preconditioner across Newton steps and
+#: points, rebuilt after a linear solve of more than 10 iterations
+SNES_FIELDS: dict[str, dict[str, Any]] = {
+    "semismooth": {"snes_type": "semismooth"},
+    "semismooth-reuse": {"snes_type": "semismooth", "factor_reuse_its": 10},
 }
 
 EVENTS = {
@@ -56,6 +71,7 @@ EVENTS = {
     "analysis": "MatLUFactorSym",
     "factorisation": "MatLUFactorNum",
     "solve": "MatSolve",
+    "krylov": "KSPSolve",
 }
 
 
@@ -72,14 +88,16 @@ def run_lever(name: str, options: dict[str, Any], speeds: list[float], out: Path
     p = parameters(15.0, roughness={"h_rms": 1e-6})
     before = _events()
     t0 = time.perf_counter()
-    with extra_petsc_options(options):
+    with extra_petsc_options(options), solver_session(**SNES_FIELDS.get(name, {})):
         rows = sweep_scene("ball", p, out / name, "film.speed", speeds, force=True)
     wall = time.perf_counter() - t0
     after = _events()
     steps = after["jacobian"][0] - before["jacobian"][0]
     row: dict[str, Any] = {
         "lever": name,
-        "options": " ".join(f"-{k} {v}" for k, v in options.items()) or "(none)",
+        "options": " ".join(f"-{k} {v}" for k, v in options.items())
+        + " ".join(f"{k}={v}" for k, v in SNES_FIELDS.get(name, {}).items())
+        or "(none)",
         "ranks": COMM_WORLD.size,
         "points": len(rows),
         "dofs": int(rows[0]["dofs"]) if rows else 0,
@@ -87,6 +105,8 @@ def run_lever(name: str, options: dict[str, Any], speeds: list[float], out: Path
         "jacobians": steps,
         "factorisations": after["factorisation"][0] - before["factorisation"][0],
         "analyses": after["analysis"][0] - before["analysis"][0],
+        "triangular_solves": after["solve"][0] - before["solve"][0],
+        "linear_solves": after["krylov"][0] - before["krylov"][0],
         "wall_s": wall,
         "first_point_s": float(rows[0]["wall_time_s"]) if rows else float("nan"),
         "later_points_s": float(np.mean([float(r["wall_time_s"]) for r in rows[1:]]))
@@ -124,11 +144,12 @@ def main(argv: list[str] | None = None) -> None:
         res["max_rel_diff_vs_first"] = diff
     for res in results:
         writer.append(res)
-    print0("| lever | points | Newton steps | jac [s] | analysis [s] | factor [s] | "
-           "solve [s] | point 1 [s] | later [s] | rel diff |")  # fmt: skip
-    print0("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    print0("| lever | points | Newton steps | analyses | factorisations | triangular solves | "
+           "jac [s] | analysis [s] | factor [s] | solve [s] | point 1 [s] | later [s] | rel diff |")  # fmt: skip
+    print0("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in results:
-        print0(f"| {r['lever']} | {r['points']} | {r['newton_steps']} | "
+        print0(f"| {r['lever']} | {r['points']} | {r['newton_steps']} | {r['analyses']} | "
+               f"{r['factorisations']} | {r['triangular_solves']} | "
                f"{r['jacobian_s_each']:.2f} | {r['analysis_s_each']:.2f} | "
                f"{r['factorisation_s_each']:.2f} | {r['solve_s_each']:.3f} | "
                f"{r['first_point_s']:.1f} | {r['later_points_s']:.1f} | "

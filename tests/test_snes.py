@@ -12,7 +12,13 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.solvers import NonlinearSolver, SNESOptions, bounds_function
+from dolfinx_seal.solvers import (
+    NonlinearSolver,
+    SNESOptions,
+    bounds_function,
+    solver_session,
+    with_snes_type,
+)
 
 
 def _nonlinear_poisson(comm, n=32, **kw):
@@ -220,6 +226,31 @@ def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
 def test_kept_factorisation_is_refused_where_the_pattern_changes():
     with pytest.raises(ParameterError, match="factor_reuse_its = 5 needs a fixed matrix pattern"):
         SNESOptions(snes_type="vinewtonrsls", factor_reuse_its=5)
+
+
+def test_solver_session_reaches_every_solver_built_inside_it():
+    """The study seam: a solver built inside ``solver_session`` takes its fields
+    (the fixed-pattern VI with a kept factorisation) and solves to the reduced-space
+    VI's solution; outside the block solvers keep their own; a switch to a
+    reduced-space type drops the kept factorisation; bad fields are refused."""
+    ref, u_ref = _string_on_obstacle(MPI.COMM_WORLD)
+    ref.solve()
+    with solver_session(snes_type="semismooth", factor_reuse_its=20):
+        s, u = _string_on_obstacle(MPI.COMM_WORLD)
+    assert (s.options.snes_type, s.options.factor_reuse_its) == ("semismooth", 20)
+    h = s.solve()
+    assert s.snes.getKSP().getType() == "gmres" and h.complementarity <= 1e-9
+    assert np.allclose(u.x.array, u_ref.x.array, atol=1e-10)
+    assert with_snes_type(s.options, "vinewtonrsls").factor_reuse_its == 0
+    s.set_snes_type("vinewtonssls")
+    assert s.options.factor_reuse_its == 0
+    other, _ = _string_on_obstacle(MPI.COMM_WORLD)
+    assert other.options.snes_type == "vinewtonrsls" and other.options.factor_reuse_its == 0
+    with pytest.raises(ParameterError, match="factor_reuse_its"):
+        with solver_session(factor_reuse_its=-1):
+            pass
+    for solver in (ref, s, other):
+        solver.destroy()
 
 
 def test_bounds_on_a_subspace_of_a_mixed_space():

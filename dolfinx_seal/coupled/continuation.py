@@ -274,7 +274,7 @@ def reynolds_presolve(prob: Any, where: str = "") -> int:
     Reynolds condition ``p >= 0`` (``vinewtonrsls``), a start for the
     mass-conserving solve (the semismooth JFO Newton fails from a dry state).
     Returns the Newton steps."""
-    from dolfinx_seal.solvers import NonlinearSolver
+    from dolfinx_seal.solvers import NonlinearSolver, with_snes_type
 
     film = prob.film
     theta = film.theta_fn
@@ -282,7 +282,7 @@ def reynolds_presolve(prob: Any, where: str = "") -> int:
     blocks = [b for b in prob.blocks if b[1] is not theta]
     lower = [0.0 if b[1] is film.P else None for b in blocks]
     bcs = [bc for bc in prob.bcs if bc not in film.bcs[1:]]
-    opts = dataclasses.replace(prob.solver.options, snes_type="vinewtonrsls")
+    opts = with_snes_type(prob.solver.options, "vinewtonrsls")
     # the step limits for this block layout (without theta: the counter position's
     # index moves; the problem's own limiter read past the end of the vector)
     limiter = prob.step_limiter(blocks) if prob.bulk and prob.limits.any else None

@@ -73,7 +73,7 @@ from dolfinx_seal.scenes.lip_install import (
 )
 from dolfinx_seal.solid.counter_surface import Shaft
 from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
-from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.solvers import SNESOptions, with_snes_type
 from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import area_fraction
 
@@ -296,7 +296,7 @@ def build(params: LipParameters, speed_scale: float | None = None) -> Lubricated
     out = LubricatedLip(prob, inst, faces, rough_start=rough, z_installed=z_installed)
     if not params.feedback:
         out.film_only = film.make_solver(
-            dataclasses.replace(prob.solver.options, snes_type=snes_type), name="lip film"
+            with_snes_type(prob.solver.options, snes_type), name="lip film"
         )
     dry.solver.destroy()
     return out

@@ -13,6 +13,8 @@ from dolfinx_seal.solvers.snes import (
     SNESOptions,
     bounds_function,
     extra_petsc_options,
+    solver_session,
+    with_snes_type,
 )
 
 __all__ = [
@@ -26,4 +28,6 @@ __all__ = [
     "add_rotational_periodic_constraint",
     "bounds_function",
     "extra_petsc_options",
+    "solver_session",
+    "with_snes_type",
 ]

@@ -86,6 +86,38 @@ def extra_petsc_options(options: Mapping[str, Any]) -> Iterator[None]:
         _SESSION_OPTIONS.pop()
 
 
+#: :class:`SNESOptions` fields given to every solver created inside :func:`solver_session`
+_SESSION_FIELDS: list[dict[str, Any]] = []
+
+
+@contextlib.contextmanager
+def solver_session(**fields: Any) -> Iterator[None]:
+    """Override :class:`SNESOptions` fields of every :class:`NonlinearSolver` created
+    inside the block, e.g. ``solver_session(snes_type="semismooth",
+    factor_reuse_its=5)``: the fixed-pattern VI solver with a kept factorisation in
+    every solver of a scene.
+
+    The seam for solver studies (``bench/solver_levers.py``), the twin of
+    :func:`extra_petsc_options` for the wrapper's own options.  A bounded solver
+    that later switches to a reduced-space VI type (a fallback, the
+    Reynolds-condition start) drops ``factor_reuse_its`` there (its matrix changes
+    size every step).  Nested blocks merge, the inner one winning.
+    """
+    SNESOptions(**fields)  # the names and values checked before any solver is built
+    _SESSION_FIELDS.append(dict(fields))
+    try:
+        yield
+    finally:
+        _SESSION_FIELDS.pop()
+
+
+def with_snes_type(options: SNESOptions, snes_type: str) -> SNESOptions:
+    """``options`` with another SNES type; a reduced-space or rescaling VI type
+    (``vinewtonrsls``, ``vinewtonssls``) drops ``factor_reuse_its``, which needs a
+    fixed matrix pattern."""
+    return _replace(options, snes_type=snes_type)
+
+
 @dataclass
 class SNESOptions:
     """Options of :class:`NonlinearSolver` (the single source of their defaults).
@@ -227,7 +259,7 @@ class NonlinearSolver:
     ) -> None:
         self.blocked = isinstance(F, list | tuple)
         self.name = name
-        self.options = options or SNESOptions()
+        self.options = _with_session(options or SNESOptions())
         self.prefix = prefix or f"dxs{next(_counter)}_"
         self.bcs = list(bcs)
         self.step_limiter = step_limiter
@@ -779,7 +811,17 @@ def _is_zero(form: Any) -> bool:
 def _replace(o: SNESOptions, **kw: Any) -> SNESOptions:
     from dataclasses import replace
 
+    if kw.get("snes_type", o.snes_type) in _VI_TYPES:
+        kw.setdefault("factor_reuse_its", 0)
     return replace(o, **kw)
+
+
+def _with_session(o: SNESOptions) -> SNESOptions:
+    """``o`` with the fields of the enclosing :func:`solver_session` blocks."""
+    fields = {k: v for d in _SESSION_FIELDS for k, v in d.items()}
+    if fields.get("snes_type", o.snes_type) in _VI_TYPES:
+        fields.pop("factor_reuse_its", None)
+    return _replace(o, **fields) if fields else o
 
 
 def _mpi_min() -> Any:
