@@ -412,6 +412,7 @@ class ProjectedMPCAssembly(MPCAssembly):
         self._plain = PlainAssembly()
         self._plain.setup(L, a, u, bcs)
         self._P: PETSc.Mat | None = None
+        self._pinned_slaves = self._slave_conditions()
         self._P = self._prolongation()
         self._D = self._slave_diagonal()
         self._check_masters()
@@ -431,6 +432,7 @@ class ProjectedMPCAssembly(MPCAssembly):
         """
         super().set_bcs(bcs)
         self._plain.set_bcs(bcs)
+        self._pinned_slaves = self._slave_conditions()
         if self._P is not None:
             self._P.destroy()
         self._P = self._prolongation()
@@ -520,6 +522,33 @@ class ProjectedMPCAssembly(MPCAssembly):
                 "does not; pin a periodic node on both faces or on neither"
             )
         return P
+
+    def _slave_conditions(self) -> list[list[tuple[np.ndarray, Any]]]:
+        """Per block: ``(local slave dofs, condition)`` for the slaves that carry it."""
+        forms = self.L if self.blocked else [self.L]
+        out = []
+        for c, L in zip(self.mpcs, forms, strict=True):
+            slaves = np.asarray(c.slaves, dtype=np.int64)
+            here = []
+            for bc in self._bcs_on(L.function_spaces[0]):
+                idx = np.intersect1d(slaves, np.asarray(bc.dof_indices()[0], dtype=np.int64))
+                if idx.size:
+                    here.append((idx, bc))
+            out.append(here)
+        return out
+
+    def to_functions(self, x: PETSc.Vec) -> None:
+        """As :meth:`MPCAssembly.to_functions`; then a slave that carries a condition
+        takes its condition's value (the backsubstitution adds its round-off master
+        weights, ~1e-13 of the other nodes of the master's cell: a pinned value off
+        by that, which the lifting turned into a flux in its neighbours' rows)."""
+        super().to_functions(x)
+        for ui, fixed in zip(
+            self.u if self.blocked else [self.u], self._pinned_slaves, strict=True
+        ):
+            for idx, bc in fixed:
+                g = bc.g
+                ui.x.array[idx] = g.x.array[idx] if hasattr(g, "x") else float(g.value)
 
     def _pinned_local(self, b: int) -> np.ndarray:
         """Block ``b``'s local dofs (owned and ghosts) that carry a Dirichlet condition."""
