@@ -1,4 +1,6 @@
-r"""Scene ``lip-static``: S0's two-scale lip seal on a periodic 3D sector (zero speed).
+r"""Scenes ``lip-static`` and ``lip-dynamic``: S0's two-scale lip seal on a periodic 3D
+sector, at zero speed, and on a shaft sliding along the circumference (JFO film on
+the frozen lip: :class:`LipDynamicParameters`, :func:`solve_film`).
 
 The radial lip seal of :mod:`~dolfinx_seal.scenes.lip_install` (the same
 parameters and defaults) is first installed on its shaft in axisymmetry (the

@@ -241,14 +241,16 @@ def test_sliding_sector_converges_and_conserves_mass(sliding):
     circumferential Couette flux no divergence: no cavitation, every node's mass
     balance to the solver's round-off (measured nodal 2.1e-10 / 2.0e-10; global 3e-10
     at 1 mm/s, 4e-8 at 0.1 m/s, where the edge rows carry the Couette flux along
-    the edges), and the Couette torque is linear in the speed."""
+    the edges), and the Couette torque is linear in the speed.  At two ranks the
+    static tests' allowance (MUMPS's parallel factorisation): measured nodal 1.5e-6."""
     slow, fast = sliding
+    one = MPI.COMM_WORLD.size == 1
     for r in sliding:
         assert r["film_newton"] <= 12
         assert r["cavitation_fraction"] == 0.0
-        assert r["nodal_mass_balance_error"] < 1e-9
-        assert r["mass_balance_error"] < 1e-6
-    assert slow["mass_balance_error"] < 1e-8
+        assert r["nodal_mass_balance_error"] < (1e-9 if one else 1e-4)
+        assert r["mass_balance_error"] < (1e-6 if one else 1e-4)
+    assert slow["mass_balance_error"] < (1e-8 if one else 1e-4)
     ratio = fast["friction_torque_couette"] / slow["friction_torque_couette"]
     assert ratio == pytest.approx(SPEEDS[1] / SPEEDS[0], rel=1e-9)
 
