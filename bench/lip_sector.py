@@ -1,9 +1,13 @@
-"""Benchmark: the periodic lip sector (scene ``lip-static``).
+"""Benchmark: the periodic lip sector (scenes ``lip-static`` and ``lip-dynamic``).
 
 * ``static``: one static point of the default sector (or with ``--set`` overrides):
   unknowns, periodic slaves, Newton steps of each stage (sector equilibrium and
   roughness homotopy, sealed pressures), wall time of each stage, MUMPS memory
   (INFOG(21): largest on one rank, INFOG(22): total, MB) and the results.
+* ``dynamic``: a speed sweep of ``lip-dynamic`` (six speeds by default) from one
+  pressurised sector: per point the Newton steps, continuation steps, time,
+  friction torque and its parts, leakage or pumping rate, cavitation fraction;
+  targets not reached are listed.
 * ``levels``: the static point on several band resolutions (``--epw``, elements
   per lambda_th): leakage, torque and radial load against run time, with
   observed orders against the finest level.
@@ -15,12 +19,14 @@ Run::
 
     scripts/dx python3 bench/lip_sector.py static
     scripts/dx mpirun -n 2 python3 bench/lip_sector.py static
+    scripts/dx python3 bench/lip_sector.py dynamic --speeds 1e-3 3e-3 1e-2 3e-2 1e-1 3e-1
     scripts/dx python3 bench/lip_sector.py levels --epw 2 3 4 --set roughness.q_th=3e5
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -51,7 +57,7 @@ def mumps_memory(lub: Any) -> dict[str, float]:
 
 
 def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
-    """One point: build (install + sector), dry (+ roughness), pressures."""
+    """One point: build (install + sector), dry (+ roughness), pressures (+ speed)."""
     p = make_parameters(scene, values=values)
     t0 = time.perf_counter()
     lub = lip_sector.build(p)
@@ -59,6 +65,7 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
     try:
         dry = lip_sector.solve_dry(lub, p)
         pr = lip_sector.solve_pressures(lub, p)
+        sp = lip_sector.solve_speed(lub, p)
         res = lip_sector.results(lub, p)
         row = {
             "ranks": COMM_WORLD.size, "dofs": res["dofs"], "periodic_slaves": res["periodic_slaves"],
@@ -67,13 +74,42 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
             "install_time_s": res["install_time_s"], "build_time_s": t_build,
             "dry_newton": dry["dry_newton_iterations"], "roughness_steps": dry["roughness_steps"],
             "dry_time_s": dry["dry_time_s"], "pressure_newton": pr["newton_iterations"],
-            "pressure_time_s": pr["solve_time_s"],
+            "pressure_time_s": pr["solve_time_s"], "speed_newton": sp["newton_iterations"],
             "wall_time_s": time.perf_counter() - t0, **mumps_memory(lub),
         }  # fmt: skip
         row.update({k: res[k] for k in KEYS})
     finally:
         lub.destroy()
     return row
+
+
+def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict[str, Any]]:
+    """The speed sweep of ``lip-dynamic``; rows as the points finish."""
+    p = make_parameters("lip-dynamic", values=values)
+    writer = SweepWriter(out, f"lip_sector_dynamic_np{COMM_WORLD.size}.csv")
+    rows: list[dict[str, Any]] = []
+    t_last = [time.perf_counter()]
+
+    def on_point(v: float, r: dict[str, Any]) -> None:
+        now = time.perf_counter()
+        row = {"speed": v, "dimensionless_speed": r.get("dimensionless_speed"),
+               "newton_iterations": r.get("newton_iterations"),
+               "continuation_steps": r.get("continuation_steps"), "point_time_s": now - t_last[0],
+               "dofs": r["dofs"], "friction_torque": r["friction_torque"],
+               "friction_torque_couette": r.get("friction_torque_couette", 0.0),
+               "friction_torque_asperity": r["friction_torque_asperity"],
+               "friction_torque_poiseuille": r["friction_torque_poiseuille"],
+               "leakage_rate": r["leakage_rate"], "pumping_rate": r.get("pumping_rate", math.nan),
+               "cavitation_fraction": r.get("cavitation_fraction", math.nan),
+               "mass_balance_error": r["mass_balance_error"]}  # fmt: skip
+        t_last[0] = now
+        rows.append(row)
+        writer.append(row)
+        print0(f"  speed {v:.3g} m/s: {row['newton_iterations']} Newton, "
+               f"{row['point_time_s']:.1f} s, torque {row['friction_torque']:.4g} N m")  # fmt: skip
+
+    lip_sector.sweep(p, out / "lip_sector_dynamic", "film.speed", speeds, on_point)
+    return rows
 
 
 def table(rows: list[dict[str, Any]]) -> str:
@@ -89,15 +125,18 @@ def table(rows: list[dict[str, Any]]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="periodic lip sector benchmarks")
-    ap.add_argument("mode", choices=("static", "levels"))
+    ap.add_argument("mode", choices=("static", "dynamic", "levels"))
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--speeds", type=float, nargs="+", default=[1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3])
     ap.add_argument("--epw", type=float, nargs="+", default=[2.0, 3.0, 4.0])
     ap.add_argument("--scene", default="lip-static")
     ap.add_argument("--out", default="bench/results")
     a = ap.parse_args(argv)
     out = Path(a.out)
     values = parse_overrides(a.set)
-    if a.mode == "static":
+    if a.mode == "dynamic":
+        rows = dynamic(values, a.speeds, out)
+    elif a.mode == "static":
         rows = [static_point(a.scene, values)]
         SweepWriter(out, f"lip_sector_static_np{COMM_WORLD.size}.csv").append(rows[0])
     else:

@@ -44,6 +44,7 @@ REGISTRY: dict[str, str] = {
     "lip-install": "dolfinx_seal.scenes.lip_install",
     "lip": "dolfinx_seal.scenes.lip",
     "lip-static": "dolfinx_seal.scenes.lip_sector",
+    "lip-dynamic": "dolfinx_seal.scenes.lip_dynamic",
 }
 
 #: A point callback of a sweep: receives the sweep value and the results of the point.

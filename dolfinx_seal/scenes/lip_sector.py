@@ -1,4 +1,6 @@
-r"""Scene ``lip-static``: S0's two-scale lip seal on a periodic 3D sector (zero speed).
+r"""Scenes ``lip-static`` and ``lip-dynamic``: S0's two-scale lip seal on a periodic 3D
+sector, at zero speed, and on a shaft sliding along the circumference (JFO film on
+the frozen lip: :class:`LipDynamicParameters`, :func:`solve_film`).
 
 The radial lip seal of :mod:`~dolfinx_seal.scenes.lip_install` (the same
 parameters and defaults) is first installed on its shaft in axisymmetry (the
@@ -180,8 +182,7 @@ class LipStaticParameters(LipInstallParameters):
         sector: The sector and its mesh (:class:`SectorParams`).
         film: The oil film: ``viscosity`` [Pa s]; ``flow_factor`` (``persson`` or
             ``patir-cheng``, of the homogenised part); ``asperity_shear`` sigma_1
-            [Pa]; ``speed`` the shaft surface speed [m/s], 0 (the shaft at rest;
-            ``cavitation`` is then not used: no transport, no cavitation).
+            [Pa]; ``speed`` the shaft surface speed [m/s] (0 here).
         oil_pressure: Sealed (gauge) oil pressure on the oil side [Pa].
         air_pressure: Pressure on the air side [Pa].
         feedback: The fluid pressure acts on the lip (false: the lip is frozen in its
@@ -234,8 +235,8 @@ class LipStaticParameters(LipInstallParameters):
         self.mesh_params()  # the sector must fit the lip: names the parameter at fault
 
     def _check_speed(self) -> None:
-        """Zero speed: the sliding shaft (S0 section 3.2) is not built yet."""
-        check_range("film.speed", self.film.speed, 0.0, 0.0, unit="m/s (a shaft at rest)")
+        """Zero speed (a sliding shaft is the scene ``lip-dynamic``)."""
+        check_range("film.speed", self.film.speed, 0.0, 0.0, unit="m/s (lip-dynamic slides)")
 
     # ------------------------------------------------------------ derived
     @property
@@ -289,6 +290,44 @@ class LipStaticParameters(LipInstallParameters):
             elements_per_wavelength=s.elements_per_wavelength, periods=s.periods,
             sector_height=s.height, h_far=s.h_far, growth=s.growth,
         )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class LipDynamicParameters(LipStaticParameters):
+    """The lip seal sector on a turning shaft (SI units); the fields of ``lip-static``.
+
+    Attributes:
+        film: The oil film: ``speed`` the shaft surface speed along the
+            circumference [m/s] (> 0: the shaft turns counter-clockwise about +z, the
+            surface slides along +x1 on the maps); ``cavitation`` ``jfo``
+            (mass-conserving, S0 eqs 10-11, the only choice); ``viscosity``,
+            ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
+        feedback: False (the only choice): the lip is frozen in its dry two-scale
+            state and the film is solved on it.  The coupled sliding sector (the
+            film pressure deforming the lip) is not converged yet
+            (docs/scenes/lip-sector.md).
+    """
+
+    film: FilmParams = field(
+        default_factory=lambda: FilmParams(
+            speed=0.1, viscosity=0.01, cavitation="jfo", flow_factor="persson",
+            asperity_shear=1.0e6,
+        )
+    )  # fmt: skip
+    feedback: bool = False
+
+    scene_name = "lip-dynamic"
+
+    def _check_speed(self) -> None:
+        """A turning shaft (zero speed is the scene ``lip-static``), JFO, frozen lip."""
+        check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
+                    unit="m/s (lip-static is at rest)")  # fmt: skip
+        check_choice("film.cavitation", self.film.cavitation, ("jfo",))
+        if self.feedback:
+            raise ParameterError(
+                "feedback = true: the coupled sliding sector is not built yet (its JFO "
+                "Newton is verified on the frozen lip only); use feedback = false"
+            )
 
 
 # ---------------------------------------------------------------- two scales
@@ -410,13 +449,18 @@ class SectorLip:
 
 
 def film_parameters(params: LipStaticParameters) -> FilmParams:
-    """The film as solved: edges at the sealed pressures; no transport at zero speed,
-    so no cavitation condition (the pressure lies between the sealed pressures:
-    maximum principle; ``film.cavitation`` is not used)."""
+    """The film as solved: edges at the sealed pressures; without transport no
+    cavitation condition (the pressure lies between the sealed pressures)."""
+    f = params.film
+    cav = f.cavitation if f.speed != 0.0 else "none"
     return dataclasses.replace(
-        params.film, cavitation="none", inlet_pressure=params.oil_pressure,
-        outlet_pressure=params.air_pressure,
-    )  # fmt: skip
+        f, cavitation=cav, inlet_pressure=params.oil_pressure, outlet_pressure=params.air_pressure
+    )
+
+
+def snes_type(fp: FilmParams) -> str:
+    """The Newton type of a film's cavitation model."""
+    return {"jfo": "vinewtonssls", "reynolds": "vinewtonrsls"}.get(fp.cavitation, "newtonls")
 
 
 def _installed(params: LipStaticParameters) -> tuple[RevolvedState, dict[str, float], Any]:
@@ -486,7 +530,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         film=film,
         limits=StepLimits(max_step=0.5 * h, max_normal_step=0.5 * h),  # half an element
         # rtol 1e-13 as the lip's: the band's film rows converge with the solid's only there
-        snes=SNESOptions(max_it=60, rtol=1e-13), periodic=periodic,
+        snes=SNESOptions(max_it=60, rtol=1e-13, snes_type=snes_type(fp)), periodic=periodic,
         name=params.scene_name,
     )  # fmt: skip
     _set_installed(prob, revolved)
@@ -497,9 +541,16 @@ def build(params: LipStaticParameters) -> SectorLip:
     closing = surface_gap_limiter(prob, GAP_CLOSURE, law.h_rms / law.alpha)
     prob.solver.step_limiter = lambda x, dx: min(own(x, dx) if own else 1.0, closing(x, dx))
     film.set_edge_pressures(0.0, 0.0)
+    if film.has_couette:  # a sliding shaft: pressurised at a slow speed, then walked up
+        film.set_speed(start_speed(params.film.speed))
     out = SectorLip(prob, tm, rough, scale, installed, mp.angle)
     if not params.feedback:
-        out.film_only = film.make_solver(prob.solver.options, name=f"{params.scene_name} film")
+        out.film_only = film.make_solver(
+            dataclasses.replace(
+                prob.solver.options, snes_type=snes_type(fp), **FILM_ONLY_TOLERANCES
+            ),
+            name=f"{params.scene_name} film",
+        )
     del inst
     return out
 
@@ -579,6 +630,47 @@ def set_sealed_pressures(lub: SectorLip, oil: float, air: float) -> None:
     lub.problem.film.set_edge_pressures(oil, air)
 
 
+#: the frozen film converges on its Newton step (``stol``, with the round-off check of
+#: the residual), not on ``rtol |F(0)|``: its rows are scaled by the zone's gap
+#: estimate, and the flow through the constriction is ~1e-7 of that scale (at
+#: ``rtol`` 1e-13 the q_th = q0 sector stopped after one step with a mass balance of
+#: 4.8e-7; one step more gives 1e-10)
+FILM_ONLY_TOLERANCES = {"rtol": 1e-20, "atol": 1e-300}
+#: Fischer-Burmeister (``vinewtonssls``) steps of a JFO film before the fixed-pattern
+#: semismooth Newton takes over with the active set they found
+JFO_START_STEPS = 8
+
+
+def solve_film(lub: SectorLip, where: str) -> int:
+    """Solve the frozen film (``feedback = false``); returns the Newton steps.
+
+    Without JFO one Newton solve.  With JFO: ``vinewtonssls`` from the last
+    state for at most :data:`JFO_START_STEPS` steps, which finds the cavitated
+    set, then the fixed-pattern semismooth Newton (``semismooth``: identity rows
+    at the bounds the natural residual finds active) to the solver's own
+    tolerance.  Fischer-Burmeister alone converges the Reynolds rows in four
+    steps but then creeps in the film fraction (0.97 per step on the q_th = q0
+    sector: film-fraction rows ``p_ref P psi`` of 1e-4 per unit ``P`` on 10 um
+    triangles and near-degenerate nodes beside the air edge, where ``p -> 0``);
+    the semismooth Newton from its active set converges in two steps.
+    """
+    solver = lub.film_only
+    if not lub.problem.film.has_theta:
+        return solver.solve(where=where).newton_iterations
+    opts = solver.options
+    its = 0
+    solver.set_snes_type("vinewtonssls")
+    solver.options = dataclasses.replace(opts, max_it=JFO_START_STEPS, error_on_failure=False)
+    solver.snes.setTolerances(max_it=JFO_START_STEPS)
+    try:
+        its += solver.solve(where=f"{where}: Fischer-Burmeister start").newton_iterations
+    finally:
+        solver.options = opts
+    solver.set_snes_type("semismooth")
+    solver.snes.setTolerances(max_it=opts.max_it)
+    return its + solver.solve(where=f"{where}: semismooth").newton_iterations
+
+
 def solve_pressures(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
     """Move the sealed pressures from their current values to those of ``params``:
     one film solve on the frozen lip (``feedback = false``), else the coupled
@@ -590,8 +682,8 @@ def solve_pressures(lub: SectorLip, params: LipStaticParameters) -> dict[str, An
     where = f"{prob.name} at oil pressure {target[0]:g} Pa"
     if lub.film_only is not None:
         set_sealed_pressures(lub, *target)
-        hist = lub.film_only.solve(where=f"{where} (frozen lip)")
-        return {"newton_iterations": hist.newton_iterations, "pressure_steps": 1,
+        its = solve_film(lub, where=f"{where} (frozen lip)")
+        return {"newton_iterations": its, "pressure_steps": 1,
                 "solve_time_s": time.perf_counter() - t0}  # fmt: skip
     prob.ramp_hook = lambda t: set_sealed_pressures(
         lub, oil0 + t * (target[0] - oil0), air0 + t * (target[1] - air0)
@@ -713,6 +805,49 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         **lub.roughness.info(),
         **lub.installed,
     }
+    if film.has_theta:
+        cav = _cavitated_area(lub)
+        out["cavitation_fraction"] = cav / band_area
+    if film.has_couette:
+        out.update(_sliding_results(lub, params, band_area))
+    return out
+
+
+def dimensionless_speed(params: LipStaticParameters, speed: float) -> float:
+    """S0's reduced sliding speed ``U~ = 6 eta U lambda_0 / (2 G h_rms^2)`` (S0 eq 14;
+    G = E / (2 (1 + nu)) the shear modulus, h_rms of the whole spectrum)."""
+    m = params.material
+    G = m.E / (2.0 * (1.0 + m.nu))
+    return (
+        6.0
+        * params.film.viscosity
+        * speed
+        * params.wavelength
+        / (2.0 * G * params.roughness.h_rms**2)
+    )
+
+
+def _sliding_results(
+    lub: SectorLip, params: LipStaticParameters, band_area: float
+) -> dict[str, Any]:
+    """``dimensionless_speed``, ``pumping_rate`` (at equal sealed pressures: the flow
+    from the air side to the oil side, positive for a seal that pumps back) and
+    ``counter_gradient_fraction`` (with a pressure drop: the band area whose axial
+    flux runs from the air side to the oil side, against the drop, S0 fig 12)."""
+    from dolfinx_seal.scenes.lip_sector_maps import band_quantities
+
+    prob = lub.problem
+    speed = float(prob.film.speed.value)
+    out: dict[str, Any] = {"dimensionless_speed": dimensionless_speed(params, speed)}
+    _, q_air = _flows(lub)
+    if params.oil_pressure == params.air_pressure:
+        out["pumping_rate"] = -q_air
+    else:
+        qz = band_quantities(lub)["flux_axial"]
+        sign = 1.0 if params.oil_pressure > params.air_pressure else -1.0
+        against = ufl.conditional(ufl.lt(sign * qz, 0.0), 1.0, 0.0)
+        area = prob.integrate(against * prob.film.da, prob.ds_c) * lub.per_revolution
+        out["counter_gradient_fraction"] = area / band_area
     return out
 
 
@@ -729,18 +864,53 @@ def _slaves(prob: SolidContactProblem) -> int:
     return total
 
 
+def _cavitated_area(lub: SectorLip) -> float:
+    film = lub.problem.film
+    cav = ufl.conditional(ufl.lt(film.theta_fn, 1.0 - 1e-8), 1.0, 0.0)
+    return lub.problem.integrate(cav * film.da, lub.problem.ds_c) * lub.per_revolution
+
+
 # ---------------------------------------------------------------- run, sweep
 def solve_point(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
-    """Dry equilibrium with the roughness, then the sealed pressures; the results."""
+    """Dry equilibrium with the roughness, then the sealed pressures, then (sliding)
+    the shaft speed; the results."""
     t0 = time.perf_counter()
     dry = solve_dry(lub, params)
     pr = solve_pressures(lub, params)
+    sp = solve_speed(lub, params)
     res = results(lub, params)
     res.update(dry)
-    res.update(pressure_steps=pr["pressure_steps"],
-               newton_iterations=dry["dry_newton_iterations"] + pr["newton_iterations"],
+    res.update(pressure_steps=pr["pressure_steps"], speed_steps=sp["continuation_steps"],
+               newton_iterations=(dry["dry_newton_iterations"] + pr["newton_iterations"]
+                                  + sp["newton_iterations"]),
                solve_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
     return res
+
+
+#: m/s: the sliding sector is pressurised at this shaft speed (or slower), where
+#: the Couette flux is a small part of the static film's, then walked up
+START_SPEED = 1e-3
+
+
+def start_speed(speed: float) -> float:
+    """The shaft speed [m/s] a sliding sector is pressurised at before it walks to ``speed``."""
+    return min(speed, START_SPEED)
+
+
+def solve_speed(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
+    """The frozen film at ``film.speed`` from the last solved state (:func:`solve_film`);
+    nothing at zero speed or at the speed already solved."""
+    film = lub.problem.film
+    target = params.film.speed
+    if not film.has_couette or float(film.speed.value) == target:
+        return {"newton_iterations": 0, "continuation_steps": 0}
+    if lub.film_only is None:
+        raise ParameterError("feedback = true: the coupled sliding sector is not built yet")
+    t0 = time.perf_counter()
+    film.set_speed(target)
+    its = solve_film(lub, where=f"{lub.problem.name} at {target:g} m/s (frozen lip)")
+    return {"newton_iterations": its, "continuation_steps": 1,
+            "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
 
 def run(params: LipStaticParameters, out: Path) -> dict[str, Any]:
@@ -759,18 +929,23 @@ def run(params: LipStaticParameters, out: Path) -> dict[str, Any]:
     return res
 
 
-SWEEPABLE = ("oil_pressure",)
+SWEEPABLE = ("oil_pressure", "film.speed")
 
 
 def sweep(
     params: LipStaticParameters, out: Path, name: str, values: list[float], on_point: Any
 ) -> list[dict[str, Any]]:
     """Over ``oil_pressure``: one sector, each point from the last (ascending); over
-    any other parameter: each point built and solved afresh (a failed one is
-    recorded and the sweep goes on)."""
+    ``film.speed`` (``lip-dynamic``): one sector pressurised at the start speed,
+    then speed continuation through the speeds in ascending order (each target
+    converged or recorded in ``sweep_failures.csv``); over any other parameter:
+    each point built and solved afresh (a failed one is recorded and the sweep
+    goes on)."""
     from dolfinx_seal.scenes.lip_sector_maps import write_maps
 
     rows: list[dict[str, Any]] = []
+    if name == "film.speed":
+        return _speed_sweep(params, out, values, on_point)
     if name not in SWEEPABLE:
         for v in values:
             pv = set_parameter(params, name, v)
@@ -803,6 +978,49 @@ def sweep(
     return rows
 
 
+def _speed_sweep(
+    params: LipStaticParameters, out: Path, values: list[float], on_point: Any
+) -> list[dict[str, Any]]:
+    """The speed sweep of ``lip-dynamic`` (:func:`sweep`)."""
+    from dolfinx_seal.output import write_sweep_failures
+    from dolfinx_seal.scenes.lip_sector_maps import write_maps
+
+    speeds = sorted(float(v) for v in values)
+    p0 = set_parameter(params, "film.speed", speeds[0])  # refuses a speed <= 0
+    rows: list[dict[str, Any]] = []
+    failed: list[dict[str, Any]] = []
+    lub = build(p0)
+    try:
+        t0 = time.perf_counter()
+        dry = solve_dry(lub, p0)
+        pr = solve_pressures(lub, p0)
+        first = {**dry, "pressure_steps": pr["pressure_steps"],
+                 "newton_iterations": dry["dry_newton_iterations"] + pr["newton_iterations"]}  # fmt: skip
+
+        def point(v: float, r: dict[str, Any]) -> None:
+            pv = set_parameter(params, "film.speed", v)
+            rr = results(lub, pv)
+            extra = first if not rows else {"newton_iterations": 0}
+            rr.update(extra)
+            rr["newton_iterations"] += int(r.get("newton_iterations", 0))
+            rr.update(continuation_steps=r.get("continuation_steps", 0), converged=True,
+                      wall_time_s=r.get("wall_time_s", time.perf_counter() - t0))  # fmt: skip
+            rows.append(rr)
+            on_point(v, rr)
+            write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
+
+        for v in speeds:
+            pv = set_parameter(params, "film.speed", v)
+            try:
+                point(v, solve_speed(lub, pv))
+            except SolverError as e:
+                failed.append({"speed": v, "error": e.what})
+    finally:
+        lub.destroy()
+    write_sweep_failures(out, failed)
+    return rows
+
+
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
     """``sweep.png``: leakage (and the fluid load) against the swept parameter."""
     import matplotlib
@@ -810,11 +1028,24 @@ def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    x = np.array([r[name] if name in r else r["oil_pressure"] for r in rows], dtype=float)
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    ax.plot(x, [r["leakage_rate"] for r in rows], "ko-", ms=4)
-    ax.set_xlabel(name)
-    ax.set_ylabel("leakage rate [m^3/s]")
+    x = np.array([r.get(name, r.get("speed")) for r in rows], dtype=float)
+    if name == "film.speed":
+        fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.0))
+        for key, style in (("friction_torque", "ko-"), ("friction_torque_couette", "b^--"),
+                           ("friction_torque_asperity", "rs--")):  # fmt: skip
+            ax.loglog(x, [abs(r.get(key, np.nan)) for r in rows], style, ms=4, label=key)
+        ax.set_xlabel("shaft surface speed [m/s]")
+        ax.set_ylabel("friction torque [N m]")
+        ax.legend(frameon=False, fontsize=8)
+        key = "pumping_rate" if "pumping_rate" in rows[0] else "leakage_rate"
+        ax2.semilogx(x, [r[key] for r in rows], "ko-", ms=4)
+        ax2.set_xlabel("shaft surface speed [m/s]")
+        ax2.set_ylabel(f"{key} [m^3/s]")
+    else:
+        fig, ax = plt.subplots(figsize=(6.4, 4.0))
+        ax.plot(x, [r["leakage_rate"] for r in rows], "ko-", ms=4)
+        ax.set_xlabel(name)
+        ax.set_ylabel("leakage rate [m^3/s]")
     fig.tight_layout()
     fig.savefig(Path(out_dir) / "sweep.png", dpi=120)
     plt.close(fig)
@@ -828,9 +1059,19 @@ SCENE = Scene(
     sweep=lambda *a: sweep(*a),
     plot_sweep=lambda *a: plot_sweep(*a),
 )
+DYNAMIC_SCENE = Scene(
+    name="lip-dynamic",
+    summary="lip seal sector on a turning shaft (S0), frozen lip: JFO film, friction torque, pumping",
+    parameters=LipDynamicParameters,
+    run=run,
+    sweep=lambda *a: sweep(*a),
+    plot_sweep=lambda *a: plot_sweep(*a),
+)
 
 __all__ = [
+    "DYNAMIC_SCENE",
     "SCENE",
+    "LipDynamicParameters",
     "LipStaticParameters",
     "SectorLip",
     "SectorParams",

@@ -17,8 +17,7 @@ them), ``band.csv`` holds, SI:
 * ``area_change`` ``da/dA - 1`` [-]: the in-plane area change of the surface, whose
   linearisation on a flat surface is S0's ``dw1/dx1 + dw2/dx2`` (fig 10; negative:
   shrinking);
-* ``film_fraction`` theta [-] (fig 11: cavitated where ``theta < 1``), for a film
-  with the JFO unknowns (a sliding shaft; not built yet).
+* ``film_fraction`` theta [-] (fig 11: cavitated where ``theta < 1``).
 
 ``maps.png`` draws them over the lubricated zone, with a profile along
 ``x_1 = 0`` (fig 6): separation, asperity, fluid and total pressure.
@@ -66,8 +65,8 @@ def band_quantities(lub: Any) -> dict[str, Any]:
 
 def band_values(lub: Any) -> dict[str, np.ndarray]:
     """The band's nodal values (gathered on every rank, one order): ``x1``, ``z``
-    and the quantities of :func:`band_quantities`; ``triangles`` (n x 3 row
-    indices): the band's own facets."""
+    and the quantities of :func:`band_quantities`; ``film_fraction`` 1 without JFO;
+    ``triangles`` (n x 3 row indices): the band's own facets."""
     from scipy.spatial import cKDTree
 
     prob = lub.problem
@@ -81,6 +80,7 @@ def band_values(lub: Any) -> dict[str, np.ndarray]:
         out[key] = v
     assert X is not None
     out = {"x1": R_s * np.arctan2(X[:, 1], X[:, 0]), "z": X[:, 2], **out}
+    out.setdefault("film_fraction", np.ones(X.shape[0]))
     tri = band_facets(lub)
     out["triangles"] = cKDTree(X).query(tri.reshape(-1, 3))[1].reshape(-1, 3)
     return out
@@ -163,10 +163,7 @@ def plot_maps(out: Path, vals: dict[str, np.ndarray], window: tuple[float, float
          np.hypot(v["flux_axial"], v["flux_circumferential"]) * 1e6, "Blues"),
         ("axial flux [mm^2/s], < 0: counter-gradient (fig 12)", v["flux_axial"] * 1e6, "RdBu_r"),
         ("in-plane area change da/dA - 1 (fig 10)", v["area_change"], "coolwarm"),
-        ("film fraction theta, < 1 cavitated (fig 11)", v["film_fraction"], "gray")
-        if "film_fraction" in v
-        else ("total normal stress [MPa] (fig 6, blue)",
-              (v["contact_pressure"] + v["fluid_pressure"]) / 1e6, "inferno"),
+        ("film fraction theta, < 1 cavitated (fig 11)", v["film_fraction"], "gray"),
     ]  # fmt: skip
     fig, axes = plt.subplots(3, 3, figsize=(15, 10.5))
     for ax, (name, data, cmap) in zip(axes.flat, panels, strict=False):

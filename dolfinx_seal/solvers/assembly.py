@@ -66,6 +66,11 @@ class Assembly(ABC):
         self.blocked = isinstance(L, list | tuple)
         self.comm = (self.u[0] if self.blocked else self.u).function_space.mesh.comm
 
+    def set_bcs(self, bcs: Sequence[Any]) -> None:
+        """Replace the Dirichlet conditions (same spaces; the matrix keeps its pattern:
+        a Dirichlet row only loses entries)."""
+        self.bcs = list(bcs)
+
     @abstractmethod
     def create_vector(self) -> PETSc.Vec:
         """A residual vector (the solution vector is a duplicate)."""
@@ -406,11 +411,35 @@ class ProjectedMPCAssembly(MPCAssembly):
         super().setup(L, a, u, bcs)
         self._plain = PlainAssembly()
         self._plain.setup(L, a, u, bcs)
+        self._P: PETSc.Mat | None = None
+        self._pinned_slaves = self._slave_conditions()
         self._P = self._prolongation()
         self._D = self._slave_diagonal()
         self._check_masters()
         self._A: PETSc.Mat | None = None
         self._C: PETSc.Mat | None = None
+
+    def set_bcs(self, bcs: Sequence[Any]) -> None:
+        """New Dirichlet conditions (e.g. a film zone restricted after set-up).
+
+        A slave may now carry a condition, with its master (a node on both cut
+        faces of the new edge of the zone): its ``P`` row is zeroed (kept in the
+        pattern), so its master's row is the master's own Dirichlet row (the
+        residual's: dolfinx_mpc moves the slave's row into the master's, whose
+        condition then overwrites it) and the slave holds its own condition.  A
+        slave with a condition and a free master, or the reverse, has no
+        consistent projected row: refused.
+        """
+        super().set_bcs(bcs)
+        self._plain.set_bcs(bcs)
+        self._pinned_slaves = self._slave_conditions()
+        if self._P is not None:
+            self._P.destroy()
+        self._P = self._prolongation()
+        self._check_masters()
+        if self._C is not None:  # the product of the new P (the same pattern)
+            self._C.destroy()
+            self._C = self._A.PtAP(self._P)
 
     # ------------------------------------------------------------ layout
     def _global_indices(self) -> list[Callable[[np.ndarray], np.ndarray]]:
@@ -446,11 +475,15 @@ class ProjectedMPCAssembly(MPCAssembly):
         return out
 
     def _prolongation(self) -> PETSc.Mat:
-        """``P`` (owned rows, global columns)."""
+        """``P`` (owned rows, global columns); the rows of slaves that carry a Dirichlet
+        condition hold explicit zeros (the same pattern whatever the conditions, so
+        that the product's symbolic pattern stays valid)."""
         to_global = self._global_indices()
         rows, cols, vals = [], [], []
+        odd = 0  # slaves whose condition differs from their master's
         for b, (c, (im, bs)) in enumerate(zip(self.mpcs, self._maps, strict=True)):
             n = im.size_local * bs
+            pinned = self._pinned_local(b)
             slaves = np.asarray(c.slaves, dtype=np.int64)
             own = slaves < n
             free = np.setdiff1d(np.arange(n, dtype=np.int64), slaves[own])
@@ -467,6 +500,9 @@ class ProjectedMPCAssembly(MPCAssembly):
                 keep = np.abs(w) > WEIGHT_FLOOR * np.abs(w).max(initial=0.0)
                 rows.append(np.full(int(keep.sum()), to_global[b](np.array([sl]))[0]))
                 cols.append(to_global[b](m[keep]))
+                if pinned[sl]:
+                    odd += int(not pinned[m[np.argmax(np.abs(w))]])
+                    w = 0.0 * w
                 vals.append(w[keep])
         r = np.concatenate(rows)
         cc = np.concatenate(cols)
@@ -479,7 +515,49 @@ class ProjectedMPCAssembly(MPCAssembly):
         for i in range(r.size):
             P.setValue(int(r[i]), int(cc[i]), float(v[i]), addv=PETSc.InsertMode.ADD_VALUES)
         P.assemble()
+        if self.comm.allreduce(odd):
+            P.destroy()
+            raise ParameterError(
+                "ProjectedMPCAssembly: a slave carries a Dirichlet condition that its master "
+                "does not; pin a periodic node on both faces or on neither"
+            )
         return P
+
+    def _slave_conditions(self) -> list[list[tuple[np.ndarray, Any]]]:
+        """Per block: ``(local slave dofs, condition)`` for the slaves that carry it."""
+        forms = self.L if self.blocked else [self.L]
+        out = []
+        for c, L in zip(self.mpcs, forms, strict=True):
+            slaves = np.asarray(c.slaves, dtype=np.int64)
+            here = []
+            for bc in self._bcs_on(L.function_spaces[0]):
+                idx = np.intersect1d(slaves, np.asarray(bc.dof_indices()[0], dtype=np.int64))
+                if idx.size:
+                    here.append((idx, bc))
+            out.append(here)
+        return out
+
+    def to_functions(self, x: PETSc.Vec) -> None:
+        """As :meth:`MPCAssembly.to_functions`; then a slave that carries a condition
+        takes its condition's value (the backsubstitution adds its round-off master
+        weights, ~1e-13 of the other nodes of the master's cell: a pinned value off
+        by that, which the lifting turned into a flux in its neighbours' rows)."""
+        super().to_functions(x)
+        for ui, fixed in zip(
+            self.u if self.blocked else [self.u], self._pinned_slaves, strict=True
+        ):
+            for idx, bc in fixed:
+                g = bc.g
+                ui.x.array[idx] = g.x.array[idx] if hasattr(g, "x") else float(g.value)
+
+    def _pinned_local(self, b: int) -> np.ndarray:
+        """Block ``b``'s local dofs (owned and ghosts) that carry a Dirichlet condition."""
+        im, bs = self._maps[b]
+        out = np.zeros((im.size_local + im.num_ghosts) * bs, dtype=bool)
+        forms = self.L if self.blocked else [self.L]
+        for bc in self._bcs_on(forms[b].function_spaces[0]):
+            out[np.asarray(bc.dof_indices()[0], dtype=np.int64)] = True
+        return out
 
     def _slave_diagonal(self) -> PETSc.Mat:
         """``D``: 1 on the owned slave rows (in the solution vector's layout)."""

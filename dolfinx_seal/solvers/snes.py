@@ -573,6 +573,12 @@ class NonlinearSolver:
             self._snes_penalty = self._make_snes(pen, self.prefix + "penalty_", bounded=False)
             self._snes_penalty.setDivergenceTolerance(1e300)
 
+    def set_bcs(self, bcs: Sequence[dolfinx.fem.DirichletBC]) -> None:
+        """Replace the Dirichlet conditions (on the same spaces; e.g. a film zone cut
+        shorter): the solver's list (in place) and its assembly's."""
+        self.bcs[:] = list(bcs)
+        self.assembly.set_bcs(self.bcs)
+
     def set_snes_type(self, snes_type: str) -> None:
         """Switch the SNES type (e.g. ``vinewtonrsls`` <-> ``vinewtonssls``) in place."""
         check_choice("snes_type", snes_type, ("newtonls", *_BOUNDED_TYPES))
