@@ -321,7 +321,7 @@ class LipDynamicParameters(LipStaticParameters):
     def _check_speed(self) -> None:
         """A turning shaft (zero speed is the scene ``lip-static``), JFO, frozen lip."""
         check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
-                    unit="m/s (lip-static is at rest)")  # fmt: skip
+                    unit="m/s (the turning shaft; a shaft at rest is the scene lip-static)")  # fmt: skip
         check_choice("film.cavitation", self.film.cavitation, ("jfo",))
         if self.feedback:
             raise ParameterError(
