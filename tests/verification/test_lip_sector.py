@@ -17,6 +17,7 @@ its own invariants.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -300,3 +301,18 @@ def test_sliding_sector_couette_torque_equals_the_rotary_lip(sliding):
     r = sliding[1]
     assert r["friction_torque_couette"] == pytest.approx(ax["friction_torque_couette"], rel=5e-3)
     assert r["friction_torque"] == pytest.approx(ax["friction_torque"], rel=5e-3)
+
+
+def test_the_shipped_sliding_scene_file_is_the_verified_sector():
+    """``lip-dynamic-q0.toml`` (the configuration the docs tell users to run) resolves
+    to exactly the CHECK sector the sliding tests verify, at 0.1 m/s."""
+    toml = Path(lip_sector_module_file()).with_name("lip-dynamic-q0.toml")
+    shipped = make_parameters("lip-dynamic", scene_file=toml)
+    checked = make_parameters("lip-dynamic", values={**CHECK, "film": {"speed": 0.1}})
+    assert shipped == checked
+
+
+def lip_sector_module_file() -> str:
+    from dolfinx_seal.scenes import lip_sector
+
+    return lip_sector.__file__
