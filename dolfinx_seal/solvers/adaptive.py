@@ -224,7 +224,10 @@ class AdaptiveWalk:
             except SolverError as e:
                 self.restore(saved)
                 self.apply(current)
-                self.step *= c.cut
+                # cut the step that was tried: one capped at the target (shorter than
+                # ``self.step``) cut from ``self.step`` could land on the same target
+                # again and repeat the same failed solve
+                self.step = min(self.step, abs(c_try - here)) * c.cut
                 res.attempts.append(
                     Attempt(v_try, False, e.history.newton_iterations,
                             time.perf_counter() - t0, f"{e.what} ({e.where})")

@@ -106,6 +106,32 @@ def test_a_stall_keeps_the_last_accepted_state_and_resets_the_step():
     assert walk.step == 0.5  # reset for the next walk
 
 
+def test_a_failed_step_capped_at_the_target_is_never_tried_again():
+    """A step shorter than the walk's step (the target is closer) that fails is cut
+    from its own length: cutting the walk's step instead left it longer than the
+    distance, so the same target was solved again, as the same failure (the S1 ball
+    walking 5.6 -> 3.2 mm/s: a 0.24-decade step to the target after a 0.5-decade
+    step, failed twice at 0.0032 m/s before a shorter step was tried)."""
+    prob = CubicRoot(max_it=30)
+    walk = _walker(prob, StepControl(first=0.5, cut=0.5, min_step=0.01))
+
+    def solve(lam: float) -> int:
+        if lam - prob.lam_accepted > 0.1:  # only steps of at most 0.1 converge
+            raise SolverError("too far", where=f"lam = {lam:g}", history=SolveHistory())
+        its = CubicRoot.solve(prob, lam)
+        prob.lam_accepted = lam
+        return its
+
+    prob.lam_accepted = 0.0
+    walk.solve = solve
+    res = walk.walk(0.0, 0.3)  # 0.3 < 0.5: the first try is the target itself
+    assert res.converged
+    tried = [a.value for a in res.attempts]
+    assert tried[0] == 0.3 and tried[1] == pytest.approx(0.15, rel=1e-12)
+    failed = [a.value for a in res.attempts if not a.accepted]
+    assert len(failed) == len(set(failed)), tried  # no failed value is tried twice
+
+
 def test_max_attempts_stops_the_walk():
     prob = CubicRoot(max_it=30)
     walk = _walker(prob, StepControl(first=0.01, grow=1.0, max_attempts=5))
