@@ -10,6 +10,7 @@ import pytest
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import using_comm
 from dolfinx_seal.scenes import make_parameters, run_scene
 
 
@@ -98,22 +99,16 @@ def test_interference_larger_than_the_lip_is_rejected():
 
 
 def test_same_answer_serial_and_parallel(mpi_tmp_path):
-    """Under mpirun: the distributed lip equals a serial copy solved on each rank.
-
-    (Force-controlled scenes cannot be copied onto COMM_SELF inside an MPI run:
-    scifem 0.6 builds the real-space index map on COMM_WORLD.)"""
+    """Under mpirun: the distributed lip equals a serial copy solved on each rank
+    (the package's communicator made COMM_SELF by ``using_comm``)."""
     if MPI.COMM_WORLD.size == 1:
         pytest.skip("compares a parallel run with a serial one")
     import dolfinx_seal.scenes.lip_install as lip
 
     p = make_parameters("lip-install", values={"lip": {"h_contact": 20e-6}})
     par = lip.run(p, mpi_tmp_path / "par")
-    saved = lip.COMM_WORLD
-    try:
-        lip.COMM_WORLD = MPI.COMM_SELF
+    with using_comm(MPI.COMM_SELF):
         ser = lip.run(p, mpi_tmp_path / f"ser{MPI.COMM_WORLD.rank}")
-    finally:
-        lip.COMM_WORLD = saved
     for k in ("radial_load", "contact_width"):
         assert par[k] == pytest.approx(ser[k], rel=1e-6), k
 

@@ -22,6 +22,7 @@ import pytest
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import using_comm
 from dolfinx_seal.scenes import make_parameters, set_parameter
 from dolfinx_seal.verification.seal_leakage import hoop_shear_force, static_leakage
 
@@ -208,16 +209,11 @@ def test_same_answer_serial_and_parallel(mpi_tmp_path):
     if MPI.COMM_WORLD.size == 1:
         pytest.skip("compares a parallel run with a serial one")
     import dolfinx_seal.scenes.lip as lip
-    import dolfinx_seal.scenes.lip_install as lip_install
 
     p = make_parameters("lip", values={**OPEN, "lip": {"h_contact": 20e-6}})
     par = lip.run(p, mpi_tmp_path / "par")
-    saved = lip.COMM_WORLD, lip_install.COMM_WORLD
-    try:
-        lip.COMM_WORLD = lip_install.COMM_WORLD = MPI.COMM_SELF
+    with using_comm(MPI.COMM_SELF):
         ser = lip.run(p, mpi_tmp_path / f"ser{MPI.COMM_WORLD.rank}")
-    finally:
-        lip.COMM_WORLD, lip_install.COMM_WORLD = saved
     # the separation is x_r - R_s, a difference of lengths 2e5 times larger, and the
     # installation stops at its load-stepping tolerance: the gap at the constriction
     # agrees to ~1e-6 between rank counts and the leakage (~u^3 phi_p(u)) to ~1e-5

@@ -24,6 +24,7 @@ import pytest
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import using_comm
 from dolfinx_seal.scenes import make_parameters, set_parameter
 
 pytest.importorskip("dolfinx_mpc")
@@ -192,17 +193,11 @@ def test_same_answer_serial_and_parallel(sector, mpi_tmp_path):
     leakage agree to the lip scene's 1-vs-2-rank tolerances."""
     if MPI.COMM_WORLD.size == 1:
         pytest.skip("compares a parallel run with a serial one")
-    import dolfinx_seal.scenes.lip_install as lip_install
-    import dolfinx_seal.scenes.lip_sector as lip_sector
 
     _, _, _, par_rows = sector
-    saved = lip_sector.COMM_WORLD, lip_install.COMM_WORLD
-    try:
-        lip_sector.COMM_WORLD = lip_install.COMM_WORLD = MPI.COMM_SELF
+    with using_comm(MPI.COMM_SELF):
         _, lub, _, ser_rows = _sector_rows(CHECK)
         lub.destroy()
-    finally:
-        lip_sector.COMM_WORLD, lip_install.COMM_WORLD = saved
     tol = {"leakage_rate": 1e-5, "h_min": 1e-5, "friction_torque": 1e-5,
            "radial_load": 1e-6, "load_contact": 1e-6, "contact_width": 1e-6}  # fmt: skip
     for par, ser in zip(par_rows, ser_rows, strict=True):
