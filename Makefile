@@ -6,7 +6,7 @@ NP3 ?= 3
 XDIST ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench soak stability env
+.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench bench-perf soak stability env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
@@ -16,7 +16,7 @@ demo-ball:  ## the former main demo: a short ball Stribeck sweep (writes into re
 
 # the 3-rank run in `make test`: the solver, constraint, mesh and fault tests, where
 # odd partitions matter (about a minute); `make test-mpi3-all` runs the whole suite
-MPI3_TESTS ?= tests/test_snes.py tests/test_meshing.py tests/test_fault_injection.py \
+MPI3_TESTS ?= tests/test_snes.py tests/test_meshing.py tests/test_fault_injection.py tests/test_chains.py \
 	tests/verification/test_periodic_vi.py tests/verification/test_obstacle_2d.py \
 	tests/verification/test_reynolds_rigid.py tests/verification/test_film_cavitation.py
 
@@ -55,6 +55,11 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/ball_extremes.py
 	$(DX) python3 bench/lip_mesh.py
 	$(DX) python3 bench/lip_extremes.py
+
+bench-perf:  ## issue 18: the 30-speed ball Stribeck sweep on 1 rank, on $(NP) ranks, and as $(NP) one-rank chains (bench/results/perf/perf.csv)
+	$(DX) python3 bench/perf.py --chains 1
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains 1
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains $(NP)
 
 soak:  ## about 10 min: memory (C heap trimmed before each reading) over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*_trim.csv, .png)
 	$(DX) python3 bench/soak.py --trim

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.output import atomic_path
 
 #: Folder of the checkpoint inside a sweep's output folder.
@@ -81,7 +81,7 @@ def save(
     out_dir: str | Path, functions: Sequence[Any], meta: Mapping[str, Any], comm: Any = None
 ) -> Path:
     """Write the checkpoint of ``functions`` with the record ``meta`` (collective)."""
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     path = Path(out_dir) / FOLDER / FILE
     payload: dict[str, np.ndarray] = {}
     for b, f in enumerate(functions):
@@ -109,7 +109,7 @@ def save(
 def read_meta(out_dir: str | Path, comm: Any = None) -> dict[str, Any] | None:
     """The record of the checkpoint in ``out_dir`` (``None``, with the reason logged,
     if there is none or it cannot be read).  Collective: read on rank 0."""
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     path = Path(out_dir) / FOLDER / FILE
     meta, why = None, None
     if comm.rank == 0:
@@ -132,7 +132,7 @@ def load(out_dir: str | Path, functions: Sequence[Any], comm: Any = None) -> dic
     """Fill ``functions`` (every local entry, ghosts included) from the checkpoint and
     return its record, or return ``None`` (functions untouched, reason logged) if
     there is none or it is not of these functions on this mesh.  Collective."""
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     meta = read_meta(out_dir, comm)
     if meta is None:
         return None
@@ -196,7 +196,7 @@ def _match(
 
 def remove(out_dir: str | Path, comm: Any = None) -> None:
     """Delete the checkpoint folder (rank 0; collective), once a sweep has finished."""
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     comm.barrier()
     if comm.rank == 0:
         shutil.rmtree(Path(out_dir) / FOLDER, ignore_errors=True)

@@ -10,7 +10,8 @@ Sub-commands:
 * ``run SCENE``          -- one point of a scene (``--scene FILE.toml``, ``--set key=value``);
   prints the results-contract scalars with units, the full record is ``results.json``.
 * ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``);
-  one line per finished point.
+  one line per finished point.  ``--chains K`` (under ``mpirun -n N``, K <= N) runs K
+  independent chains of the values at once, each on N/K ranks.
 * ``study SCENE``        -- error against run time over resolution levels.
 * ``study stability SCENE`` -- the scene's stiff and extreme cases from its table
   (``studies/stability/SCENE.toml``): ``stability.csv``, ``.md``, ``.png``.
@@ -38,7 +39,7 @@ from pathlib import Path
 
 from dolfinx_seal import scenes as _scenes
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
+from dolfinx_seal.mpi import print0, setup_logging, world
 from dolfinx_seal.output import Progress, on_sweep_row, results_table, sweep_point_line, versions
 
 
@@ -82,7 +83,7 @@ def _cmd_params(args: argparse.Namespace) -> int:
                 chunks.append(f"{name}: {_scenes.get(name).summary}\n{table}\n({note})\n")
         text = "\n".join(chunks)
     if args.output:
-        if COMM_WORLD.rank == 0:
+        if world().rank == 0:
             Path(args.output).write_text(text if text.endswith("\n") else text + "\n")
         print0(f"written {args.output}")
     else:
@@ -110,6 +111,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     unit = field_unit(p, args.over)
     if args.resume and args.force:
         raise ParameterError("--resume and --force: resume the sweep in --out, or overwrite it")
+    if args.chains != 1:
+        rows = _scenes.sweep_chains(
+            args.scene, p, out, args.over, values, args.chains, force=args.force,
+            resume=args.resume, unit=unit,
+        )  # fmt: skip
+        return _sweep_status(rows, values, out, args.over)
     progress = Progress(len(values), args.over, unit, verbose=args.verbose)
 
     def echo(row: dict) -> None:  # before progress.point counts the row
@@ -121,15 +128,21 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             args.scene, p, out, args.over, values, force=args.force, progress=progress,
             resume=args.resume,
         )  # fmt: skip
+    return _sweep_status(rows, values, out, args.over)
+
+
+def _sweep_status(rows: list[dict], values: list[float], out: str, over: str) -> int:
+    """Exit status 0 when every point of a sweep finished; else the SolverError
+    naming the points not finished and the first failure."""
     print0(f"{len(rows)} of {len(values)} points finished; {out}/sweep.csv, {out}/results.json")
     if len(rows) == len(values):
         return 0
-    done = {float(r[args.over]) for r in rows if args.over in r}
+    done = {float(r[over]) for r in rows if over in r}
     missing = [v for v in values if float(v) not in done]
-    reasons = _sweep_failures(Path(out), args.over)
+    reasons = _sweep_failures(Path(out), over)
     why = f"; first failure: {reasons[0]}" if reasons else ""
     raise SolverError(
-        f"sweep incomplete: {len(missing)} of {len(values)} points not finished ({args.over} = "
+        f"sweep incomplete: {len(missing)} of {len(values)} points not finished ({over} = "
         f"{', '.join(f'{v:g}' for v in missing)}){why}; the {len(rows)} finished points are in "
         f"{out}/sweep.csv"
     )
@@ -282,6 +295,12 @@ def build_parser() -> argparse.ArgumentParser:
             help="go on with the killed or failed sweep in --out (same scene, parameters and "
             "values): keep its rows, solve the points not finished",
         )  # fmt: skip
+        sp.add_argument(
+            "--chains", type=int, default=1, metavar="K",
+            help="run K chains of the values at once (every K-th value of the walk order, "
+            "each chain with its own start, on its share of the mpirun ranks; results "
+            "per chain in OUT/chain-k, merged in OUT)",
+        )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
 
         sp = sub.add_parser(
@@ -335,7 +354,7 @@ def _cmd_psd(args: argparse.Namespace) -> int:
     from dolfinx_seal.roughness.topography import topography_report
 
     out = Path(args.out)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     m = topography_report(args.file, args.pixel_size, out, window=args.window)
     for k, v in m.items():

@@ -68,6 +68,75 @@ def quiet_jit() -> None:
 quiet_jit()
 
 
+# ------------------------------------------------------------------ quadrature
+def check_quadrature_rules(form: Any, name: str = "form") -> None:
+    """Refuse a UFL form that FFCx 0.9 would compile with the wrong quadrature.
+
+    FFCx 0.9.0 (Debian 13) can integrate every integrand of a group of integrals of
+    one type on one subdomain with the one-point rule when the group holds a
+    degree-1 integral beside one of another degree: ``exp(u) v ds(degree=8) +
+    u^3 v ds(degree=1)`` is assembled as both one-point, in either order (1.3 %
+    off on a unit square); with other integrands it was right, and two degrees
+    above 1 always were (``tests/test_compat.py``).  A residual built that way is one-point while its
+    Jacobian blocks without the degree-1 term keep their own rule: the film rows'
+    Jacobian was 0.26 % off finite differences and Newton converged linearly.
+    Every form the solvers compile passes this check: a group with a degree-1
+    integral has no integral of another rule.
+
+    Raises:
+        ValueError: naming the form, the integral type, the subdomain and the rules.
+    """
+    groups: dict[tuple[Any, ...], set[tuple[Any, Any]]] = {}
+    for it in form.integrals():
+        md = it.metadata()
+        key = (it.integral_type(), it.subdomain_id(), id(it.ufl_domain()))
+        rule = (md.get("quadrature_degree"), md.get("quadrature_rule", "default"))
+        groups.setdefault(key, set()).add(rule)
+    for (kind, sub, _), rules in groups.items():
+        if len(rules) > 1 and any(deg == 1 for deg, _ in rules):
+            shown = ", ".join(f"degree {d if d is not None else 'estimated'} ({r})"
+                              for d, r in sorted(rules, key=str))  # fmt: skip
+            raise ValueError(
+                f"{name}: the {kind} integrals on subdomain {sub} mix a one-point rule "
+                f"with others ({shown}); FFCx 0.9 would integrate them all one-point. "
+                "Give them one rule (or split the form)"
+            )
+
+
+# ------------------------------------------------------------------ real space
+def real_functionspace(mesh: Any) -> Any:
+    """The space of one real number on ``mesh`` (a global unknown, e.g. the
+    counter-surface position under force control), on ``mesh.comm``.
+
+    Every cell's single dof is the same global dof, owned by rank 0 of ``mesh.comm``
+    and a ghost on the others: the layout of scifem's ``create_real_functionspace``,
+    which builds its index map on ``MPI_COMM_WORLD`` whatever the mesh's
+    communicator (so a problem on a sub-communicator, a sweep chain, fails in
+    the first block vector with MPI_ERR_ARG).  Built here from DOLFINx 0.9's C++
+    constructors (``IndexMap``, ``ElementDofLayout``, ``DofMap``,
+    ``FiniteElement_float64``, ``FunctionSpace_float64``)."""
+    import basix.ufl
+    from dolfinx import cpp as _cpp
+
+    if mesh.geometry.x.dtype != np.float64:
+        raise TypeError("real_functionspace: float64 meshes only")
+    element = basix.ufl.element("P", mesh.basix_cell(), 0, discontinuous=True)
+    owner = mesh.comm.rank == 0
+    ghosts = np.zeros(0 if owner else 1, dtype=np.int64)  # global dof 0, owned by rank 0
+    imap = _cpp.common.IndexMap(
+        mesh.comm, 1 if owner else 0, ghosts, np.zeros(ghosts.size, np.int32)
+    )
+    e = element.basix_element._e
+    layout = _cpp.fem.ElementDofLayout(1, e.entity_dofs, e.entity_closure_dofs, [], [])
+    cells = mesh.topology.index_map(mesh.topology.dim)
+    n = cells.size_local + cells.num_ghosts
+    dofs = _cpp.graph.AdjacencyList_int32(np.zeros((n, 1), dtype=np.int32))
+    dofmap = _cpp.fem.DofMap(layout, imap, 1, dofs, 1)
+    cpp_element = _cpp.fem.FiniteElement_float64(e, 1, False)
+    space = _cpp.fem.FunctionSpace_float64(mesh._cpp_object, cpp_element, dofmap, [])
+    return dolfinx.fem.FunctionSpace(mesh, element, space)
+
+
 # ---------------------------------------------------------------- gmsh -> mesh
 def model_to_mesh(model: Any, comm: Any, rank: int = 0, gdim: int = 3) -> tuple[Any, Any, Any]:
     """``(mesh, cell_tags, facet_tags)`` from a Gmsh model living on ``rank``."""

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.mpi import COMM_WORLD, print0
+from dolfinx_seal.mpi import print0, world
 from dolfinx_seal.params import from_mapping, parse_overrides, to_dict
 from geometry import KINDS
 from geometry import load as load_builder
@@ -75,14 +75,14 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out or f"results/meshes/{args.kind}")
     name = args.name or args.kind
     status: tuple[str, str] = ("ok", "")
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         try:
             status = ("ok", _build_and_write(mod, params, out, name, args))
         except ParameterError as e:
             status = ("parameter", str(e))
         except Exception as e:
             status = ("error", f"{type(e).__name__}: {e}")
-    status = COMM_WORLD.bcast(status, root=0)
+    status = world().bcast(status, root=0)
     if status[0] == "parameter":
         raise ParameterError(status[1])
     if status[0] == "error":

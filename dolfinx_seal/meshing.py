@@ -34,6 +34,7 @@ from ufl.core.expr import Expr
 
 from dolfinx_seal.compat import model_to_mesh
 from dolfinx_seal.errors import ParameterError
+from dolfinx_seal.mpi import world
 from geometry import load as _load_builder
 from geometry import tags as _tags
 
@@ -99,7 +100,7 @@ def from_builder(
     Args:
         build: A builder ``build(params) -> MeshInfo`` (e.g. :func:`geometry.lip.build_lip`).
         params: Its (validated) parameter dataclass.
-        comm: MPI communicator (default ``COMM_WORLD``).
+        comm: MPI communicator (default :func:`dolfinx_seal.mpi.world`: ``COMM_WORLD``, or a sweep chain's own).
         rank: Rank that runs Gmsh.
         out_dir: If given, ``rank`` also writes ``NAME.msh`` and ``info.json`` there.
         name: Mesh file stem (default the kind).
@@ -114,7 +115,7 @@ def from_builder(
     """
     from geometry._common import gmsh_session, save
 
-    comm = comm or MPI.COMM_WORLD
+    comm = comm or world()
     if comm.rank == rank:
         import gmsh
 
@@ -165,7 +166,7 @@ def create_mesh(
     Args:
         kind: Geometry kind (:data:`geometry.KINDS`).
         params: The kind's parameter dataclass (defaults if ``None``).
-        comm: MPI communicator (default ``COMM_WORLD``).
+        comm: MPI communicator (default :func:`dolfinx_seal.mpi.world`: ``COMM_WORLD``, or a sweep chain's own).
         rank: Rank that runs Gmsh.
         out_dir: If given, also write ``NAME.msh`` and ``info.json`` there (from ``rank``).
         name: Mesh file stem (default the kind).
@@ -192,7 +193,7 @@ def read_mesh(path: str | Path, comm: Any = None, rank: int = 0) -> TaggedMesh:
 
     from geometry._common import gmsh_session
 
-    comm = comm or MPI.COMM_WORLD
+    comm = comm or world()
     path = Path(path)
     if comm.rank == rank:
         with gmsh_session():

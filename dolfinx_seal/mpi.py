@@ -1,4 +1,11 @@
-"""MPI helpers: rank-0 printing and logging, collective temporary directories.
+"""MPI helpers: the package's communicator, rank-0 printing and logging,
+collective temporary directories.
+
+Every part of the package that needs a communicator and is not handed one takes
+:func:`world`: ``COMM_WORLD``, or inside :func:`using_comm` the communicator of a
+sweep chain (``dolfinx-seal sweep --chains K`` runs K speed chains at once, each
+on its own share of the ranks).  Nothing in the package uses ``COMM_WORLD``
+directly.
 
 Imports mpi4py only (no DOLFINx), so pure-numpy modules can use it too.  When
 mpi4py is not importable everything degrades to a single process.
@@ -19,6 +26,7 @@ try:  # mpi4py is a Debian package of the project environment
     from mpi4py import MPI
 
     COMM_WORLD: Any = MPI.COMM_WORLD
+    COMM_SELF: Any = MPI.COMM_SELF
 except ImportError:  # pragma: no cover - only outside the project environment
     MPI = None  # type: ignore[assignment]
 
@@ -36,11 +44,33 @@ except ImportError:  # pragma: no cover - only outside the project environment
             return obj
 
     COMM_WORLD = _SerialComm()
+    COMM_SELF = COMM_WORLD
+
+
+_STACK: list[Any] = []  # the communicators of the active using_comm blocks
+
+
+def world() -> Any:
+    """The communicator the package works on: ``COMM_WORLD``, or the innermost
+    :func:`using_comm` block's (a sweep chain's ranks)."""
+    return _STACK[-1] if _STACK else COMM_WORLD
+
+
+@contextmanager
+def using_comm(comm: Any) -> Iterator[Any]:
+    """Make ``comm`` the package's communicator (:func:`world`) in the block: meshes,
+    solvers, output folders and rank-0 writes of everything run inside it live on
+    ``comm``'s ranks only."""
+    _STACK.append(comm)
+    try:
+        yield comm
+    finally:
+        _STACK.pop()
 
 
 def rank(comm: Any = None) -> int:
-    """Rank of this process in ``comm`` (default COMM_WORLD)."""
-    return (comm or COMM_WORLD).rank
+    """Rank of this process in ``comm`` (default :func:`world`)."""
+    return (comm or world()).rank
 
 
 def print0(*args: Any, comm: Any = None, **kwargs: Any) -> None:
@@ -95,8 +125,8 @@ def setup_logging(level: int | str = logging.INFO, comm: Any = None) -> None:
 
 
 def bcast_path(path: str | Path | None, comm: Any = None) -> Path:
-    """Broadcast rank 0's ``path`` to all ranks and create it (rank 0) before returning."""
-    comm = comm or COMM_WORLD
+    """Broadcast rank 0's ``path`` to all ranks of ``comm`` (default :func:`world`) and create it (rank 0) before returning."""
+    comm = comm or world()
     p = comm.bcast(str(path) if path is not None else None, root=0)
     if comm.rank == 0 and p is not None:
         Path(p).mkdir(parents=True, exist_ok=True)
@@ -107,7 +137,7 @@ def bcast_path(path: str | Path | None, comm: Any = None) -> Path:
 @contextmanager
 def temporary_directory(comm: Any = None) -> Iterator[Path]:
     """A temporary directory made on rank 0, shared by all ranks, removed at exit."""
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     name = tempfile.mkdtemp(prefix="dolfinx_seal_") if comm.rank == 0 else None
     path = Path(comm.bcast(name, root=0))
     try:

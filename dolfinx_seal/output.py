@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.params import flatten
 
 _FORCE = "N (N/m in plane strain)"
@@ -343,7 +343,7 @@ def write_results(out_dir: str | Path, results: Mapping[str, Any], comm: Any = N
     ``results`` must hold ``scene`` and ``parameters``; ``versions`` is added.  A
     non-finite scalar is an error (raised on every rank): nothing is silently NaN.
     """
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     out = Path(out_dir)
     path = out / "results.json"
     # On every rank: versions() imports DOLFINx/petsc4py, whose initialisation is
@@ -379,7 +379,7 @@ class SweepWriter:
     def __init__(
         self, out_dir: str | Path, name: str = "sweep.csv", comm: Any = None, resume: bool = False
     ) -> None:
-        self.comm = comm or COMM_WORLD
+        self.comm = comm or world()
         self.path = Path(out_dir) / name
         self.fields: list[str] | None = None
         if self.comm.rank == 0:
@@ -429,7 +429,7 @@ def write_sweep_failures(out_dir: str | Path, failed: Sequence[Mapping[str, Any]
     """``sweep_failures.csv`` (``speed,error``; rank 0, atomic): the continuation
     targets a sweep did not reach and why (``failed``: ``{"speed", "error"}``); no
     file when there are none."""
-    if failed and COMM_WORLD.rank == 0:
+    if failed and world().rank == 0:
         lines = ["speed,error\n"] + [_csv_line([f["speed"], f["error"]]) for f in failed]
         write_text_atomic(Path(out_dir) / "sweep_failures.csv", "".join(lines))
 
@@ -506,7 +506,7 @@ def write_sweep_manifest(
     ``parameters`` is the resolved parameter record (``params.to_dict``); see the
     module docstring for the keys.
     """
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     out = Path(out_dir)
     path = out / SWEEP_MANIFEST
     data = {
@@ -553,7 +553,7 @@ def check_out_dir(
     dotted parameters with both values) and the ways out; with ``force`` one
     warning is logged instead.  Collective: decided on rank 0, raised on every rank.
     """
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     new = {
         "scene": scene,
         "kind": "run" if over is None else "sweep",
@@ -604,7 +604,7 @@ def resume_rows(
     rows (values parsed with :func:`parse_cell`; none if the sweep had not
     finished a point).  Collective: read on rank 0, shared with every rank.
     """
-    comm = comm or COMM_WORLD
+    comm = comm or world()
     out = Path(out_dir)
     new = {"scene": scene, "kind": "sweep", "parameters": _plain(parameters), "over": over,
            "values": _plain(list(values))}  # fmt: skip
@@ -811,6 +811,7 @@ class Progress:
         comm: Communicator; only its rank 0 prints.
         leave: Keep the bar on the terminal when it closes (False: a single run's
             bar of sub-steps disappears).
+        prefix: Put before every plain line (``"chain 2/4: "`` for a sweep chain).
     """
 
     def __init__(
@@ -826,14 +827,16 @@ class Progress:
         min_interval: float = 10.0,
         comm: Any = None,
         leave: bool = True,
+        prefix: str = "",
     ) -> None:
         import sys
         import time
 
         self.total, self.over, self.unit, self.what = int(total), over, unit, what
         self.growth, self.verbose, self.min_interval = growth, verbose, float(min_interval)
+        self.prefix = prefix
         self.stream = stream if stream is not None else sys.stderr
-        self.enabled = (comm or COMM_WORLD).rank == 0
+        self.enabled = (comm or world()).rank == 0
         if tty is None:
             isatty = getattr(self.stream, "isatty", None)
             tty = bool(isatty and isatty())
@@ -948,7 +951,7 @@ class Progress:
             print(line, flush=True)
 
     def _print(self, line: str) -> None:
-        print(line, file=self.stream, flush=True)
+        print(self.prefix + line, file=self.stream, flush=True)
 
     def close(self) -> None:
         """End the bar (idempotent)."""

@@ -73,7 +73,7 @@ from dolfinx_seal import params as _params
 from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import CONTINUUM_FILM
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.output import Progress, SweepWriter, write_results, write_text_atomic
 from dolfinx_seal.params import flatten
 
@@ -396,9 +396,9 @@ def stability_study(
     ``results.json``.  Returns every point row."""
     out = Path(out)
     selected = table.select(cases)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         out.mkdir(parents=True, exist_ok=True)
-    COMM_WORLD.barrier()
+    world().barrier()
     writer = SweepWriter(out, "stability.csv")
     rows: list[dict[str, Any]] = []
     times: dict[str, float] = {}
@@ -418,13 +418,13 @@ def stability_study(
         "study": "stability", "scene": table.scene, "table": str(table.path),
         "cases": [c.name for c in selected], "points": len(rows), "counts": counts,
         "case_wall_time_s": times, "wall_time_s": time.perf_counter() - t_all,
-        "ranks": COMM_WORLD.size,
+        "ranks": world().size,
     }  # fmt: skip
     write_results(out, summary)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         write_text_atomic(out / "stability.md", markdown(table, selected, rows, times))
         plot_map(table, selected, rows, out / "stability.png")
-    COMM_WORLD.barrier()
+    world().barrier()
     return rows
 
 
@@ -459,14 +459,14 @@ def rewrite_report(table: Table, out: str | Path) -> list[dict[str, Any]]:
     summary.update(counts=counts)
     times = summary.get("case_wall_time_s", {})
     write_results(out, summary)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         cols = (*COLUMNS, *HEADLINE, "strategy", "error")
         text = ",".join(cols) + "\n" + "".join(_csv_row([r.get(k, "") for k in cols]) for r in rows)
         write_text_atomic(out / "stability.csv", text)
         write_text_atomic(out / "stability.md",
                           markdown(table, selected, rows, times, summary.get("ranks", 1)))  # fmt: skip
         plot_map(table, selected, rows, out / "stability.png")
-    COMM_WORLD.barrier()
+    world().barrier()
     return rows
 
 
@@ -514,7 +514,7 @@ def markdown(table: Table, cases: Sequence[Case], rows: Sequence[Mapping[str, An
     """The report: a summary table (a line per case) and each case's points."""
     lines = [f"# Stability study: `{table.scene}`", "",
              f"Table `{table.path.name}`, {len(cases)} cases, {len(rows)} points, "
-             f"{ranks or COMM_WORLD.size} rank(s).  Status counts: "
+             f"{ranks or world().size} rank(s).  Status counts: "
              + ", ".join(f"{s} {sum(r['status'] == s for r in rows)}" for s in STATUSES) + ".",
              "", "| case | what it tests | over | converged | failed, stopped or suspect | not attempted | refused "
              "| Newton | max load res. | max mass res. | max compl. res. | time [s] "

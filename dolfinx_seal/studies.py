@@ -25,7 +25,7 @@ from typing import Any
 
 from dolfinx_seal import scenes
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.output import Progress, SweepWriter, write_results
 from dolfinx_seal.params import check_choice, set_parameter, to_dict
 
@@ -96,7 +96,7 @@ def convergence_study(
                     for k, x in r.items()} for r in rows],
     }  # fmt: skip
     write_results(out, summary)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         _plot(rows, quantities, out / "error_vs_time.png", scene, reference)
     return rows
 

@@ -40,6 +40,10 @@ class SpeedStepping:
         easy: Newton steps counted as easy.
         predictor: Start each step from the secant extrapolation (in log speed)
             of the last two converged states.
+        tangent: With ``predictor``, start each step from the tangent of the
+            solution path instead (:func:`tangent_predictor`: one extra linear
+            solve with the Jacobian at the last converged state; also on the
+            first step, where no secant exists yet).
         max_failures: Stop a sweep after this many consecutive targets not
             reached (0: never); the remaining targets are recorded as not attempted.
             Walking down into boundary lubrication, the next lower target fails
@@ -60,6 +64,7 @@ class SpeedStepping:
     grow: float = 1.5
     easy: int = 8
     predictor: bool = True
+    tangent: bool = False
     max_failures: int = 0
     film_presolve: bool = True
     time_budget: float = 0.0
@@ -214,20 +219,86 @@ def _coupled_step(
     cannot start from).  Returns the solve history; raises :class:`SolverError` if
     the step failed."""
     where = f"{prob.name} at speed {speed:.4g} m/s"
-    if st.predictor and len(history) == 2:
-        secant_predictor(prob, history, speed)
-    if presolver is None:
-        return prob.solver.solve(where=where)
-    rec.film_iterations += presolver.solve(where)
+    tangent = None
+    if st.predictor and st.tangent and history:  # at the last converged speed
+        tangent = path_tangent(prob, math.copysign(10.0 ** history[-1][0], speed))
+    _predict(prob, history, speed, st, tangent)
     try:
-        return prob.solver.solve(where=where)
-    except SolverError as e:
-        get_logger().info("step to %.4g m/s after the film presolve failed (%s); "
-                          "again without it", speed, e.what)  # fmt: skip
-        prob.restore(history[-1][1])
-        if st.predictor and len(history) == 2:
-            secant_predictor(prob, history, speed)
-        return prob.solver.solve(where=where)
+        if presolver is None:
+            return prob.solver.solve(where=where)
+        rec.film_iterations += presolver.solve(where)
+        try:
+            return prob.solver.solve(where=where)
+        except SolverError as e:
+            get_logger().info("step to %.4g m/s after the film presolve failed (%s); "
+                              "again without it", speed, e.what)  # fmt: skip
+            prob.restore(history[-1][1])
+            _predict(prob, history, speed, st, tangent)
+            return prob.solver.solve(where=where)
+    finally:
+        if tangent is not None:
+            tangent[1].destroy()
+
+
+def _predict(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float,
+             st: SpeedStepping, tangent: tuple[float, Any] | None) -> None:  # fmt: skip
+    """The predictor of a continuation step from the last converged state (the
+    current one): the tangent's if computed, else the secant's when two states
+    are known, else none."""
+    if tangent is not None:
+        tangent_predictor(prob, tangent, speed)
+    elif st.predictor and len(history) == 2:
+        secant_predictor(prob, history, speed)
+
+
+TANGENT_DELTA = 1e-4  # relative speed change of the residual's finite difference
+
+
+def path_tangent(prob: Any, speed: float) -> tuple[float, Any]:
+    """``(speed, t)``: the tangent ``t = dx / d ln|U|`` of the solution path at the
+    current state, converged at ``speed`` U [m/s] (:meth:`NonlinearSolver.tangent
+    <dolfinx_seal.solvers.NonlinearSolver.tangent>`), with the residual's derivative
+    from a one-sided difference in ``ln|U|`` (:data:`TANGENT_DELTA`; the residual is
+    linear in U but for the film rows' speed-dependent weight, whose derivative
+    multiplies the converged residual).  The film's speed is left as it was (the
+    step's target).  The caller destroys ``t``."""
+    film, solver = prob.film, prob.solver
+    current = float(film.speed.value)
+    try:
+        film.set_speed(speed)
+        F0 = solver.residual()
+        film.set_speed(speed * (1.0 + TANGENT_DELTA))
+        dF = solver.residual()
+        film.set_speed(speed)
+        # the Jacobian of the tangent is assembled by tangent() at this speed
+        dF.axpy(-1.0, F0)
+        dF.scale(1.0 / math.log1p(TANGENT_DELTA))
+        F0.destroy()
+        try:
+            return speed, solver.tangent(dF)
+        finally:
+            dF.destroy()
+    finally:
+        film.set_speed(current)
+
+
+def tangent_predictor(prob: Any, tangent: tuple[float, Any], speed: float) -> None:
+    """Set ``prob``'s state to the first-order prediction ``x + ln(|speed| / |U|) t``
+    from the converged state at ``U`` along its :func:`path_tangent`, shortened to
+    the problem's gap-closure rule like :func:`secant_predictor`."""
+    v0, t = tangent
+    solver = prob.solver
+    saved = prob.state()
+    x = solver.x.copy()
+    solver.assembly.from_functions(x)
+    x.axpy(math.log(abs(speed) / abs(v0)), t)
+    solver.assembly.to_functions(x)
+    x.destroy()
+    pred = prob.state()
+    closure = prob.limits.max_gap_closure
+    if closure:
+        pred = _safeguard_predictor(prob, saved, pred, closure)
+    prob.restore(pred)
 
 
 def secant_predictor(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float) -> None:
@@ -530,8 +601,10 @@ __all__ = [
     "boundary_start_speed",
     "film_presolve",
     "order_speeds",
+    "path_tangent",
     "reynolds_presolve",
     "secant_predictor",
     "speed_sweep",
     "start_coupled",
+    "tangent_predictor",
 ]

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import ufl
 
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.surface.asperity import area_fraction
 
 
@@ -193,7 +193,7 @@ def write_film_profile(out: Path, prob: Any, title: str) -> None:
     if prob.p_cont is not None:
         Xs, pcs = prob.surface_values(prob.p_cont, average=True)
         pc = np.interp(vals["X"][:, 0], Xs[:, 0], pcs)
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     out.mkdir(parents=True, exist_ok=True)
     x = vals["x"][:, 0]
@@ -248,7 +248,7 @@ def write_film_map(out: Path, prob: Any, title: str, extent: float | None = None
         Xs, pcs = prob.surface_values(prob.p_cont, average=True)
         _, idx = cKDTree(Xs).query(X)
         pc = pcs[idx]
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     out.mkdir(parents=True, exist_ok=True)
     x, y = vals["x"][:, 0], vals["x"][:, 1]

@@ -311,15 +311,14 @@ class SurfaceFilm:
 
         grad_q = self.surface_grad(q)
         R = self.conductivity * sc.pressure * ufl.dot(self.surface_grad(self.P), grad_q) * self.da
-        # On the periodic 3D sector with transport the whole film row is one-point: there
-        # the residual's flow term was measured one-point (FFCx 0.9 took the transport
-        # term's rule for the whole facet integral) while its Jacobian kept degree 6,
-        # 1.8 % off finite differences beside the zone's edge, and the JFO Newton
-        # crept.  Elsewhere the flow term keeps its own degree: made one-point on the
-        # 2D cylinder it changed the converged smooth cylinder at 0.02 m/s from mu
-        # 0.0138 (the half-space reference's) to 3.08, so the observation does not hold
-        # there.  Which meshes FFCx merges rules on is open (docs/scenes/lip-sector.md).
-        one_point = self.has_transport and self.ctx.periodic is not None
+        # With transport the whole film row is one-point.  The transport terms must
+        # be (upwinding), and FFCx 0.9 integrates a facet group whose one-point
+        # integral follows one of another degree wholly one-point
+        # (compat.check_quadrature_rules): the residual was one-point already while the pressure-pressure Jacobian kept
+        # the flow term's own degree (0.26 % off finite differences on the cylinder,
+        # Newton linear: 7 steps a continuation point, 4 with the row one-point; the
+        # same converged values).  Without transport (zero speed) the row keeps it.
+        one_point = self.has_transport
         R = R * (self.ds1 if one_point else self.ds)
         if self.has_transport:
             # one-point quadrature + streamline diffusion h/(2|U_m|): full upwinding of

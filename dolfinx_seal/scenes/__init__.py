@@ -24,13 +24,16 @@ from typing import Any
 
 from dolfinx_seal import params as _params
 from dolfinx_seal.errors import ParameterError, SolverError
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import COMM_SELF, get_logger, using_comm, world
 from dolfinx_seal.output import (
     Progress,
     SweepWriter,
     check_out_dir,
+    parse_cell,
+    read_csv,
     resume_rows,
     write_results,
+    write_sweep_failures,
     write_sweep_manifest,
 )
 from dolfinx_seal.params import set_parameter as set_parameter  # part of the scenes API
@@ -164,9 +167,9 @@ def run_scene(
     scene = get(name)
     out = Path(out_dir)
     check_out_dir(out, name, _params.to_dict(parameters), force=force)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         out.mkdir(parents=True, exist_ok=True)
-    COMM_WORLD.barrier()
+    world().barrier()
     t0 = time.perf_counter()
     results = scene.run(parameters, out)
     results.setdefault("wall_time_s", time.perf_counter() - t0)
@@ -266,7 +269,7 @@ def sweep_scene(
                 continue
             res.setdefault("wall_time_s", time.perf_counter() - pt0)
             on_point(v, res)
-    if scene.plot_sweep is not None and rows and COMM_WORLD.rank == 0:
+    if scene.plot_sweep is not None and rows and world().rank == 0:
         scene.plot_sweep(rows, out, over)
     summary = {
         "scene": name,
@@ -279,6 +282,142 @@ def sweep_scene(
     }
     write_results(out, summary)
     return rows
+
+
+def chain_values(values: Sequence[float], chains: int, order: str = "given") -> list[list[float]]:
+    """The sweep values of each of ``chains`` chains: every ``chains``-th value of the
+    walk order (``order``: ``up``, ``down`` or ``given``), so that every chain starts
+    at the same end of the sweep (a lubricated sweep's start is cheapest there) and
+    walks the whole range in ``chains`` times longer steps."""
+    if order == "up-down":
+        raise ParameterError(
+            "--chains with sweep_order = 'up-down': a hysteresis loop is one chain "
+            "(run it with --chains 1)",
+            "sweep_order",
+        )
+    if order in ("up", "down"):
+        walk = sorted(float(v) for v in values)
+        walk = walk if order == "up" else walk[::-1]
+    else:
+        walk = [float(v) for v in values]
+    return [walk[k::chains] for k in range(chains)]
+
+
+def sweep_chains(
+    name: str,
+    parameters: Any,
+    out_dir: str | Path,
+    over: str,
+    values: Sequence[float],
+    chains: int,
+    force: bool = False,
+    resume: bool = False,
+    unit: str = "",
+) -> list[dict[str, Any]]:
+    """:func:`sweep_scene` as ``chains`` independent chains run at once, each on its
+    own share of the ranks of :func:`~dolfinx_seal.mpi.world` (``mpirun -n N`` with
+    ``chains = N``: one rank per chain).
+
+    The values are dealt out by :func:`chain_values`; chain ``k`` (from 1) sweeps its
+    values into ``out_dir/chain-k`` with its own start (its own ``results.json``,
+    ``sweep.csv``, failures, checkpoint; ``resume`` goes on with each chain
+    there), shows its progress as plain lines prefixed ``chain k/K``, and a chain
+    that stops keeps its finished points.  When every chain has ended, ``out_dir``
+    gets the merged ``sweep.csv`` (in the walk order), ``sweep_failures.csv``,
+    the scene's sweep plot and ``results.json`` (``failed_points``, and per
+    chain its ranks, values, points finished and wall time).  Returns the merged
+    rows (values as written in the chains' CSV files) on every rank.
+    """
+    comm = world()
+    chains = _params.check_int_range("--chains", chains, 1)
+    if chains > comm.size:
+        raise ParameterError(
+            f"--chains = {chains}: at most one chain per rank, and there are "
+            f"{comm.size} rank(s) (run under mpirun -n {chains} or more)",
+            "--chains",
+        )
+    scene = get(name)
+    out = Path(out_dir)
+    set_parameter(parameters, over, _params.get_dotted(parameters, over))
+    for v in values:
+        set_parameter(parameters, over, v)
+    lubricated_speed = scene.sweep is not None and over in ("speed", "film.speed")
+    order = str(getattr(parameters, "sweep_order", "given")) if lubricated_speed else "given"
+    shares = chain_values(values, chains, order)
+    record = _params.to_dict(parameters)
+    check_out_dir(out, name, record, over=over, values=list(values), force=force)
+    write_sweep_manifest(out, name, record, over, list(values))
+    color = comm.rank * chains // comm.size
+    # never freed: PETSc objects of the chain's solves, collected later, keep using it
+    sub = comm.Split(color, key=comm.rank)
+    k = color + 1
+    folder = out / f"chain-{k}"
+    t0 = time.perf_counter()
+    with using_comm(sub):
+        go_on = resume and sub.bcast((folder / "sweep.json").is_file(), root=0)
+        progress = Progress(len(shares[color]), over, unit, comm=sub, tty=False,
+                            prefix=f"chain {k}/{chains}: ")  # fmt: skip
+        with progress:
+            sweep_scene(name, parameters, folder, over, shares[color], force=force,
+                        progress=progress, resume=go_on)  # fmt: skip
+    wall = time.perf_counter() - t0
+    leader = sub.rank == 0
+    info = comm.gather(
+        {"chain": k, "ranks": comm.size // chains + (1 if color < comm.size % chains else 0),
+         "values": shares[color], "wall_time_s": wall} if leader else None,
+        root=0,
+    )  # fmt: skip
+    merged: list[dict[str, Any]] = []
+    if comm.rank == 0:  # rank 0 alone merges what the chains wrote
+        per_chain = [c for c in info if c is not None]
+        failed: list[dict[str, Any]] = []
+        not_reached: list[dict[str, Any]] = []
+        for c in per_chain:
+            got, lost, missed = _chain_output(out / f"chain-{c['chain']}")
+            merged += got
+            failed += [{**f, "chain": c["chain"]} for f in lost]
+            not_reached += missed
+            c["points_finished"] = len(got)
+        position = {v: i for i, v in enumerate(chain_values(values, 1, order)[0])}
+        merged.sort(key=lambda r: position.get(float(r[over]), len(position)))
+        with using_comm(COMM_SELF):
+            writer = SweepWriter(out)
+            for r in merged:
+                writer.append(r)
+            write_sweep_failures(out, not_reached)
+            if scene.plot_sweep is not None and merged:
+                scene.plot_sweep(merged, out, over)
+        summary_all = {
+            "scene": name,
+            "parameters": record,
+            "sweep_parameter": over,
+            "sweep_values": list(values),
+            "points_finished": len(merged),
+            "failed_points": failed,
+            "chains": per_chain,
+            "wall_time_s": time.perf_counter() - t0,
+        }
+        write_results(out, summary_all, comm=COMM_SELF)
+    return comm.bcast(merged, root=0)
+
+
+def _chain_output(folder: Path) -> tuple[list[dict[str, Any]], list[Any], list[dict[str, Any]]]:
+    """What one chain of :func:`sweep_chains` left in ``folder``: its ``sweep.csv``
+    rows (cells parsed), its failed points (``results.json``) and its continuation
+    targets not reached (``sweep_failures.csv``)."""
+    import json
+
+    rows: list[dict[str, Any]] = []
+    if (folder / "sweep.csv").is_file():
+        rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(folder / "sweep.csv")]
+    failed: list[Any] = []
+    if (folder / "results.json").is_file():
+        failed = json.loads((folder / "results.json").read_text()).get("failed_points", [])
+    missed: list[dict[str, Any]] = []
+    if (folder / "sweep_failures.csv").is_file():
+        missed = [{"speed": float(r["speed"]), "error": r["error"]}
+                  for r in read_csv(folder / "sweep_failures.csv")]  # fmt: skip
+    return rows, failed, missed
 
 
 def parse_values(spec: str) -> list[float]:

@@ -14,7 +14,7 @@ import numpy as np
 from dolfinx_seal.contact.hertz import separation_of
 from dolfinx_seal.contact.persson import PerssonExponentialLaw, PerssonLaw
 from dolfinx_seal.errors import SolverError
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.params import check_choice, check_range
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.solid.materials import MATERIALS, make_material
@@ -142,7 +142,7 @@ def solve_dry(problem: Any, pressure_guess: Any, peak_guess: float) -> dict[str,
 def write_profile(out: Path, name: str, columns: dict[str, np.ndarray], title: str,
                   xlabel: str, ylabel: str, curves: dict[str, tuple[np.ndarray, np.ndarray]]) -> None:  # fmt: skip
     """Write ``NAME.csv`` (columns) and ``NAME.png`` (curves: label -> (x, y)) on rank 0."""
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     out.mkdir(parents=True, exist_ok=True)
     keys = list(columns)

@@ -201,8 +201,9 @@ def problem(p: CylinderParameters, tm: TaggedMesh, s: Scales, law: Any, film: An
     else:
         snes, max_normal = film_snes(p.film), 0.5 * h
         max_step = max(0.5 * h, s.length / 60.0) if p.bulk else None
-        if p.bulk and law is not None:  # the film gap rule of the ball
-            gap_step, closure = 3.0 * law.h_rms / law.alpha, GAP_CLOSURE
+        if p.bulk:  # the film gap rule of the ball (smooth: closure alone)
+            closure = GAP_CLOSURE
+            gap_step = 3.0 * law.h_rms / law.alpha if law is not None else None
     body = Body(PlaneStrain(), p.material.build() if p.bulk else None,
                 [Dirichlet(tm.tag("load"))], degree=p.degree)  # fmt: skip
     limits = StepLimits(max_step=max_step, max_normal_step=max_normal, max_gap_step=gap_step,

@@ -43,7 +43,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from dolfinx_seal.contact.hydroplaning import FlatOnFlat, HydroplaningResult
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.params import (
     check_int_range,
     check_nonnegative,
@@ -226,7 +226,7 @@ def run(params: FlatParams, out_dir: Path) -> dict[str, Any]:
     """Solve one point; write ``profile.csv`` and ``flat.png``."""
     model = params.model()
     res = model.solve(params.eta_v)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         out_dir.mkdir(parents=True, exist_ok=True)
         np.savetxt(
             out_dir / "profile.csv",

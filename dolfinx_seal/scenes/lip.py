@@ -60,7 +60,7 @@ from dolfinx_seal.coupled.continuation import SpeedStepping, speed_sweep
 from dolfinx_seal.coupled.results import complementarity_of, write_fields
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import CONTINUUM_FILM, FilmParams, FilmScales, SurfaceFilm
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.output import write_sweep_failures
 from dolfinx_seal.params import check_choice, check_positive, check_range
 from dolfinx_seal.scenes import Scene
@@ -452,7 +452,7 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
         "contact_area_fraction": real / (2.0 * math.pi * R_s * width) if width > 0 else 0.0,
         "dofs": prob.dofs,
         "dof_counts": prob.dof_counts(),
-        "ranks": COMM_WORLD.size,
+        "ranks": world().size,
         **complementarity_of(prob),
     }
     # a key of every point (a sweep's rows share one header)
@@ -560,7 +560,7 @@ def write_film(out: Path, lub: LubricatedLip, params: LipParameters) -> None:
         "area_fraction": on_film(af),
         "shear": on_film(tau),
     }
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     out.mkdir(parents=True, exist_ok=True)
     np.savetxt(out / "film.csv", np.column_stack(list(cols.values())), delimiter=",",
@@ -773,9 +773,9 @@ def write_strokes(out: Path, strokes: list[dict[str, float]]) -> None:
 
     keys = list(strokes[0])
     lines = [",".join(keys)] + [",".join(f"{s[k]:.10g}" for k in keys) for s in strokes]
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         write_text_atomic(Path(out) / "strokes.csv", "\n".join(lines) + "\n")
-    COMM_WORLD.barrier()
+    world().barrier()
 
 
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:

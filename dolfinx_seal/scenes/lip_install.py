@@ -45,7 +45,7 @@ from mpi4py import MPI
 from dolfinx_seal.compat import interpolation_points
 from dolfinx_seal.coupled.results import write_fields
 from dolfinx_seal.meshing import create_mesh
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.params import check_int_range, check_nonnegative, check_types
 from dolfinx_seal.roughness.psd import RoughnessParams
 from dolfinx_seal.scenes import Scene
@@ -177,7 +177,7 @@ def install(params: LipInstallParameters) -> Installation:
     law, law_info = params.contact.build(
         params.roughness, params.material.E_star, approach=lp.interference
     )
-    tm = create_mesh("lip", lp, comm=COMM_WORLD)
+    tm = create_mesh("lip", lp, comm=world())
     spring_info: dict[str, float] = {}
     # shaft radius grows from just inside the tip to its nominal value
     start = lp.shaft_radius - lp.interference - 0.02 * lp.interference
@@ -313,7 +313,7 @@ def run(params: LipInstallParameters, out: Path) -> dict[str, Any]:
         "max_strain_r_above_tip": r_strain - lp.tip_r,
         "max_strain_z": z_strain,
         "dofs": prob.dofs,
-        "ranks": COMM_WORLD.size,
+        "ranks": world().size,
         "wall_time_s": time.perf_counter() - t0,
         "converged": True,
         "spring_hoop_tension": spring_info.get("spring_hoop_tension", 0.0),

@@ -66,7 +66,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.params import (
     check_bool,
     check_choice,
@@ -493,7 +493,7 @@ def build(params: LipStaticParameters) -> SectorLip:
     revolved, installed, inst = _installed(params)
     lp, fp = params.lip, film_parameters(params)
     mp = params.mesh_params()
-    tm = create_mesh("lip-sector", mp, comm=COMM_WORLD)
+    tm = create_mesh("lip-sector", mp, comm=world())
     rough = two_scale(params.roughness)
     law, law_info = params.contact.build(params.roughness, params.material.E_star,
                                          approach=lp.interference, psd=rough.stochastic)  # fmt: skip
@@ -827,7 +827,7 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         "dofs": prob.dofs,
         "dof_counts": prob.dof_counts(),
         "periodic_slaves": _slaves(prob),
-        "ranks": COMM_WORLD.size,
+        "ranks": world().size,
         **lub.roughness.info(),
         **lub.installed,
     }

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 import ufl
 
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.surface.asperity import area_fraction
 
 
@@ -126,7 +126,7 @@ def _max() -> Any:
 
 def write_band_csv(out: Path, vals: dict[str, np.ndarray]) -> None:
     """``band.csv`` (rank 0)."""
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     out.mkdir(parents=True, exist_ok=True)
     keys = [k for k in vals if k != "triangles"]
@@ -138,7 +138,7 @@ def plot_maps(out: Path, vals: dict[str, np.ndarray], window: tuple[float, float
               h_rms: float) -> None:  # fmt: skip
     """``maps.png``: the band maps over the z-range ``window`` and the profile at
     ``x_1 = 0`` (rank 0)."""
-    if COMM_WORLD.rank != 0:
+    if world().rank != 0:
         return
     import matplotlib
 

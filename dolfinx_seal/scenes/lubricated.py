@@ -89,7 +89,7 @@ from dolfinx_seal.coupled.sweep import plot_sweep
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh
-from dolfinx_seal.mpi import COMM_WORLD, get_logger
+from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.output import write_sweep_failures
 from dolfinx_seal.params import set_parameter
 from dolfinx_seal.scenes import PointCallback, Resume, Scene
@@ -220,7 +220,7 @@ class LubricatedScene:
 
         Args:
             p: Scene parameters.
-            comm: Communicator (default COMM_WORLD).
+            comm: Communicator (default :func:`dolfinx_seal.mpi.world`).
             position: None: force control (the counter-surface's position is an
                 unknown); otherwise its final position [m] (position control, e.g.
                 to check a parallel solution on one rank).
@@ -228,7 +228,7 @@ class LubricatedScene:
         """
         s = self.scales(p)
         law, law_info = self._law(p, s)
-        tm = self.mesh(p, s, comm or COMM_WORLD)
+        tm = self.mesh(p, s, comm or world())
         if position is None:
             control: Control = ForceControl(p.load / s.symmetry_factor)
         else:
@@ -240,7 +240,7 @@ class LubricatedScene:
         """The dry problem (no film unknowns, force control) and the scalars describing it."""
         s = self.scales(p)
         law, law_info = self._law(p, s)
-        tm = self.mesh(p, s, comm or COMM_WORLD)
+        tm = self.mesh(p, s, comm or world())
         prob = self.problem(p, tm, s, law, None, ForceControl(p.load / s.symmetry_factor))
         return prob, self._info(s, law, law_info)
 
@@ -322,7 +322,7 @@ class LubricatedScene:
         budget = float(getattr(getattr(p, "stepping", None), "time_budget", 0.0) or 0.0)
 
         def spent() -> bool:  # decided on rank 0: every rank takes the same branch
-            return bool(budget) and COMM_WORLD.bcast(time.perf_counter() - t0 > budget, root=0)
+            return bool(budget) and world().bcast(time.perf_counter() - t0 > budget, root=0)
 
         if self.other_start is not None and not spent():
             reset(target)
@@ -403,7 +403,7 @@ class LubricatedScene:
                                      nominal_area=s.nominal_area)  # fmt: skip
             res.update(info)
             res.update(solve_info)
-            res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=COMM_WORLD.size,
+            res.update(dofs=prob.dofs, dof_counts=prob.dof_counts(), ranks=world().size,
                        wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
             self.write_point(out, prob, p)
             write_fields(out, prob)
@@ -422,7 +422,7 @@ class LubricatedScene:
             res = dry_results(prob, prob.target, line=s.line, symmetry_factor=s.symmetry_factor)
             res.update(solve_info)
             res.update(info)
-            res.update(dofs=prob.dofs, ranks=COMM_WORLD.size,
+            res.update(dofs=prob.dofs, ranks=world().size,
                        wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
             res.update(self.write_dry(out, prob, p, s))
             write_fields(out, prob)
@@ -508,7 +508,7 @@ class _Walk:
         assert self.prob is not None and self.s is not None
         r = lubricated_results(self.prob, symmetry_factor=self.s.symmetry_factor,
                                nominal_area=self.s.nominal_area)  # fmt: skip
-        r.update(dofs=self.prob.dofs, ranks=COMM_WORLD.size)
+        r.update(dofs=self.prob.dofs, ranks=world().size)
         return r
 
     @property

@@ -50,7 +50,7 @@ from dolfinx_seal.friction.modulus import (
     StandardLinearSolid,
 )
 from dolfinx_seal.friction.rubber import RubberFriction
-from dolfinx_seal.mpi import COMM_WORLD
+from dolfinx_seal.mpi import world
 from dolfinx_seal.params import (
     check_choice,
     check_int_range,
@@ -257,7 +257,7 @@ def run(params: RubberFrictionParams, out_dir: Path) -> dict[str, Any]:
     v_peak, mu_peak = model.peak(params.speed_min, params.speed_max, params.n_curve)
     res.update(mu_peak=mu_peak, speed_peak=v_peak)
     zeta, p = model.contact_function(params.speed)
-    if COMM_WORLD.rank == 0:
+    if world().rank == 0:
         out_dir.mkdir(parents=True, exist_ok=True)
         np.savetxt(out_dir / "mu_curve.csv", np.column_stack((v, curve)), delimiter=",",
                    header="speed_m_s,mu", comments="")  # fmt: skip

@@ -11,7 +11,7 @@ with the unknowns
 * ``u`` (vector P2 by default) and, for the mixed (nearly incompressible)
   formulation, the pressure ``p_mix`` (P1): Taylor-Hood;
 * under force control, the rigid position of the counter-surface (a global real
-  unknown, scifem) with the equation ``contact force = F_N``; under
+  unknown, :func:`~dolfinx_seal.compat.real_functionspace`) with the equation ``contact force = F_N``; under
   displacement control that position is a prescribed constant.
 
 It is solved by :class:`~dolfinx_seal.solvers.NonlinearSolver` (blocked when
@@ -32,10 +32,10 @@ from typing import Any
 import basix.ufl
 import dolfinx
 import numpy as np
-import scifem
 import ufl
 from mpi4py import MPI
 
+from dolfinx_seal.compat import real_functionspace
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_positive, check_range
@@ -222,7 +222,7 @@ class SolidContactProblem:
         # counter-surface position: a real unknown (force control) or a constant
         self.position0 = float(position0)
         if self.control == "force":
-            self.R = scifem.create_real_functionspace(mesh)
+            self.R = real_functionspace(mesh)
             self.position = dolfinx.fem.Function(self.R, name="position")
             self.position.x.array[:] = position0
             self.load = dolfinx.fem.Constant(mesh, 0.0)

@@ -6,7 +6,7 @@ between the PETSc vector and the unknown :class:`dolfinx.fem.Function` (s), and 
 which dofs are not free unknowns (multi-point-constraint slaves).  Two strategies:
 
 * :class:`PlainAssembly` (the default): DOLFINx assembly, single field or blocked
-  (a monolithic block vector/matrix, e.g. a field plus a scifem real unknown);
+  (a monolithic block vector/matrix, e.g. a field plus a real unknown);
 * :class:`MPCAssembly`: dolfinx_mpc assembly with multi-point constraints
   (periodicity, periodicity with rotation of a vector field, slip, ...), one
   constraint for a single field or one per block (``None`` for a block without
@@ -175,7 +175,7 @@ class MPCAssembly(Assembly):
             problem; the field may live in a mixed space, the constraint on a
             sub-space of it), or for a blocked problem a list with one entry per
             block: a finalized constraint or ``None`` (no constraint on that block,
-            e.g. a scifem real unknown).  Each unknown must be a Function on its
+            e.g. a real-space unknown).  Each unknown must be a Function on its
             constraint's ``function_space``; the forms' test functions (and the
             trial functions of a Jacobian given explicitly) are on the space ``V``
             the constraint was created on.

@@ -3,7 +3,7 @@
 :class:`NonlinearSolver` owns a SNES for a residual given as UFL form(s):
 
 * single field (one :class:`dolfinx.fem.Function`, possibly in a mixed space) or
-  blocked (lists of forms and functions, e.g. a field plus a scifem real-space
+  blocked (lists of forms and functions, e.g. a field plus a real-space
   unknown), with Dirichlet conditions;
 * optional lower/upper bounds per dof, which turn the problem into a
   variational inequality (VI) solved by ``vinewtonrsls``/``vinewtonssls``:
@@ -282,6 +282,11 @@ class NonlinearSolver:
                     for Fi in F
                 ]
                 J = [[None if _is_zero(a) else a for a in row] for row in J]
+            for i, Fi in enumerate(F):
+                compat.check_quadrature_rules(Fi, f"{name}: residual block {i}")
+                for j, a in enumerate(J[i]):
+                    if a is not None:
+                        compat.check_quadrature_rules(a, f"{name}: Jacobian block ({i}, {j})")
             self._L = [dolfinx.fem.form(Fi, **fopts) for Fi in F]
             self._a = [
                 [None if a is None else dolfinx.fem.form(a, **fopts) for a in row] for row in J
@@ -290,6 +295,8 @@ class NonlinearSolver:
             self.u = u
             if J is None:
                 J = ufl.derivative(F, u, ufl.TrialFunction(asm.trial_space(F, u)))
+            compat.check_quadrature_rules(F, f"{name}: residual")
+            compat.check_quadrature_rules(J, f"{name}: Jacobian")
             self._L = dolfinx.fem.form(F, **fopts)
             self._a = dolfinx.fem.form(J, **fopts)
         self.assembly = asm
@@ -322,6 +329,7 @@ class NonlinearSolver:
         self._own_options: list[str] = []  # global PETSc options entries this solver set
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
+        self._tangent_ksp: PETSc.KSP | None = None
         self._residual_scale: float | None = None
 
     # ---------------------------------------------------------------- set-up
@@ -730,6 +738,55 @@ class NonlinearSolver:
         vec.destroy()
         return out
 
+    # ------------------------------------------------------------ continuation
+    def tangent(self, dF: PETSc.Vec) -> PETSc.Vec:
+        """The tangent ``t`` of the solution path at the current (converged) unknowns:
+        ``J t = -dF`` with ``dF`` the residual's derivative with respect to the
+        continuation parameter (a vector of this solver's layout), on the rows off
+        an active bound; ``t = 0`` on the active rows (``x - F`` beyond a bound: the
+        semismooth active set), so the bounded unknowns there stay put.  A new
+        vector (the caller destroys it).  One direct solve with the Jacobian at the
+        current unknowns, by its own KSP (``<prefix>tangent_``: LU by
+        ``factor_solver``), the solver's own factorisation left as it is."""
+        F = self.residual()
+        self._jacobian(self._snes, self.x, self.A, self.A)
+        rhs = dF.copy()
+        rhs.scale(-1.0)
+        A = self.A.copy()
+        if self.has_bounds:
+            trial = self.x.getArray(readonly=True) - F.getArray(readonly=True)
+            active = np.flatnonzero(
+                (trial < self.xl.getArray(readonly=True))
+                | (trial > self.xu.getArray(readonly=True))
+            ).astype(np.int32)
+            rhs.array[active] = 0.0
+            A.zeroRows(active + A.getOwnershipRange()[0], diag=1.0)  # collective
+        F.destroy()
+        if self._tangent_ksp is None:
+            ksp = PETSc.KSP().create(self.comm)
+            ksp.setOptionsPrefix(self.prefix + "tangent_")
+            ksp.setType("preonly")
+            ksp.getPC().setType("lu")
+            ksp.getPC().setFactorSolverType(self.options.factor_solver)
+            ksp.setFromOptions()
+            self._tangent_ksp = ksp
+        self._tangent_ksp.setOperators(A)
+        t = rhs.duplicate()
+        try:
+            self._tangent_ksp.solve(rhs, t)
+            reason = self._tangent_ksp.getConvergedReason()
+            if reason < 0 or not np.isfinite(t.norm()):
+                t.destroy()
+                raise SolverError(
+                    f"the tangent's linear solve failed ({_named(PETSc.KSP.ConvergedReason, reason)})",
+                    where=f"{self.name} tangent predictor",
+                )
+        finally:
+            self._tangent_ksp.reset()
+            A.destroy()
+            rhs.destroy()
+        return t
+
     # ------------------------------------------------------------ diagnostics
     def residual(self) -> PETSc.Vec:
         """The residual vector at the current unknowns (a copy: the caller destroys it)."""
@@ -792,6 +849,7 @@ class NonlinearSolver:
         for obj in (
             self._snes,
             self._snes_penalty,
+            self._tangent_ksp,
             self.A,
             self.b,
             self.x,
