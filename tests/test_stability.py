@@ -225,6 +225,37 @@ def test_the_fallback_speeds_begin_where_the_start_has_not_been():
     assert cylinder.CYLINDER.fallback_speeds(at_rest) == []
 
 
+def test_a_ball_starts_at_most_at_its_moes_cap():
+    """A ball whose target (or rough start) lies above ``max_start_moes`` starts where
+    Moes' M equals the cap, in full film, and walks down: h_rms 0.1 um at 0.01 m/s
+    (M = 2907) begins at M = 500, not where it is asked (which failed after 2 Newton
+    steps); the rough 1 um, 0.1 m/s and smooth fast balls are below the cap and keep
+    their starts."""
+    from dolfinx_seal.scenes import ball, make_parameters
+
+    fine = make_parameters("ball", values={"roughness": {"h_rms": 1e-7}})
+    assert ball.moes_load(fine, fine.film.speed) == pytest.approx(2907, rel=1e-3)
+    v0 = ball.start_speed(fine)
+    assert v0 > 10 * fine.film.speed
+    assert ball.moes_load(fine, v0) == pytest.approx(fine.max_start_moes, rel=1e-12)
+    # the round trip of the estimate, and the cap's direction (M falls as U rises)
+    hd = ball.film_estimate(fine)
+    assert hd.moes_load(hd.mean_speed_for_moes(123.0)) == pytest.approx(123.0, rel=1e-12)
+    assert ball.moes_load(fine, 2 * v0) < fine.max_start_moes
+    # the fallback chain then tries only speeds where the start really begins elsewhere
+    assert all(v > v0 for v in ball.BALL.fallback_speeds(fine))
+    smooth_fast = make_parameters("ball", values={"contact": {"model": "none"},
+                                                  "film": {"speed": 1.0}})  # fmt: skip
+    assert ball.start_speed(smooth_fast) == 1.0  # M = 92: starts where it is asked
+    rough = make_parameters("ball", values={"roughness": {"h_rms": 1e-5}})
+    assert ball.moes_load(rough, ball.start_speed(rough)) == pytest.approx(44.5, rel=1e-2)
+    capped = make_parameters("ball", values={"roughness": {"h_rms": 1e-7},
+                                             "max_start_moes": 5000.0})  # fmt: skip
+    assert ball.start_speed(capped) == pytest.approx(capped.film.speed, rel=1e-12)
+    with pytest.raises(ParameterError, match="max_start_moes"):
+        make_parameters("ball", values={"max_start_moes": 1.0})
+
+
 #: A representative subset of the shipped tables (slow): per scene, cases that
 #: must converge at every point, and one refused by the input checks.
 SUBSET = {

@@ -68,6 +68,8 @@ from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 #: Default elements per Hertz radius at the contact (:attr:`BallParameters.contact_elements`).
 CONTACT_ELEMENTS = 20.0
 START_FILM = 4.0  # central film of the start point, in h_rms
+#: Default of :attr:`BallParameters.max_start_moes`.
+MAX_START_MOES = 500.0
 GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
 
 
@@ -108,6 +110,12 @@ class BallParameters:
             or ``given``.
         stepping: Speed continuation options of sweeps (``film_presolve`` off: the
             ball's figures were measured without it).
+        max_start_moes: Largest Moes load ``M = W U^(-3/4)`` of the first coupled
+            solve [-] (10 to 1e5): where ``film.speed`` (or the rough start speed)
+            has a larger ``M``, the start is made at the speed where ``M`` is this
+            cap, in full film, and walks down to ``film.speed`` (:func:`start_speed`).
+            The S1 ball's starts converged at M = 517 and 661 and failed at M = 757
+            and 2907 (docs/scenes/ball.md).
     """
 
     radius: float = 0.01
@@ -126,6 +134,7 @@ class BallParameters:
     film_extent: float = 3.0
     sweep_order: str = "down"
     stepping: SpeedStepping = field(default_factory=lambda: SpeedStepping(film_presolve=False))
+    max_start_moes: float = MAX_START_MOES
 
     def __post_init__(self) -> None:
         check_types(self)
@@ -143,6 +152,7 @@ class BallParameters:
         check_range("mesh_growth", self.mesh_growth, 0.0, 2.0, lo_open=True)
         check_range("film_extent", self.film_extent, 1.5, 4.5)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
+        check_range("max_start_moes", self.max_start_moes, 10.0, 1e5)
         if not self.lubricated and self.contact.model == "none":
             raise ParameterError("contact.model = 'none' needs lubricated = true")
         if self.lubricated and self.film.speed == 0.0:
@@ -221,17 +231,35 @@ def problem(p: BallParameters, tm: TaggedMesh, s: Scales, law: Any, film: Any,
     )  # fmt: skip
 
 
+def film_estimate(p: BallParameters) -> IsoviscousElasticFilm:
+    """The Hamrock-Dowson film and Moes number of this ball (smooth, isoviscous)."""
+    return IsoviscousElasticFilm(p.radius, p.material.E_star, p.film.viscosity, p.load)
+
+
+def moes_load(p: BallParameters, speed: float) -> float:
+    """Moes' dimensionless load ``M = W U^(-3/4)`` [-] of the ball at the sliding
+    speed ``speed`` [m/s] (the flat slides, the ball is at rest: ``u_m = |speed| / 2``)."""
+    return film_estimate(p).moes_load(0.5 * abs(speed))
+
+
 def start_speed(p: BallParameters) -> float:
-    """Speed U [m/s] of the first coupled solve: a hydrodynamic one, where the
-    Hamrock-Dowson central film (:mod:`dolfinx_seal.verification.ehl`, u_m = U/2) is
-    ``START_FILM`` h_rms, so that the asperities carry little and the Persson law
-    is in its soft tail; never below ``film.speed``.  Without asperity contact:
-    ``film.speed``."""
+    """Speed U [m/s] of the first coupled solve, never below ``film.speed``.
+
+    Rough: a hydrodynamic one, where the Hamrock-Dowson central film
+    (:mod:`dolfinx_seal.verification.ehl`, u_m = U/2) is ``START_FILM`` h_rms, so
+    that the asperities carry little and the Persson law is in its soft tail.
+    Smooth (``contact.model = "none"``): ``film.speed``.  Either way at least the
+    speed where Moes' ``M`` is ``max_start_moes``: a start in full film, walked down
+    to ``film.speed``.  A thin film over the Hertz-deformed shape at high ``M``
+    (h_rms 0.1 um at 0.01 m/s, M = 2907: a central film of 14 h_rms) is beyond the
+    coupled Newton's reach from the Hertz guess (``DIVERGED_LINE_SEARCH after 2
+    Newton steps``), where the start at M = 517 converged and walked down."""
     f = p.film
-    if p.contact.model == "none":
-        return f.speed
-    hd = IsoviscousElasticFilm(p.radius, p.material.E_star, f.viscosity, p.load)
-    return max(f.speed, 2.0 * hd.mean_speed_for_central(START_FILM * p.roughness.h_rms))
+    hd = film_estimate(p)
+    v = f.speed
+    if p.contact.model != "none":
+        v = max(v, 2.0 * hd.mean_speed_for_central(START_FILM * p.roughness.h_rms))
+    return max(v, 2.0 * hd.mean_speed_for_moes(p.max_start_moes))
 
 
 def film_gap(p: BallParameters) -> float:
@@ -243,7 +271,7 @@ def film_gap(p: BallParameters) -> float:
     stalled at a scaled residual of 2.5e-2 (``DIVERGED_LINE_SEARCH``): with the
     film's own scale (a fourth or all of it) it converged in 36 / 31 Newton steps
     to the same state (1e-13)."""
-    hd = IsoviscousElasticFilm(p.radius, p.material.E_star, p.film.viscosity, p.load)
+    hd = film_estimate(p)
     return max(p.roughness.h_rms, hd.h_central(0.5 * start_speed(p)) / START_FILM)
 
 
@@ -262,7 +290,7 @@ def start(prob: SolidContactProblem, p: BallParameters, s: Scales) -> dict[str, 
     """
     f = p.film
     v0 = start_speed(p)
-    hd = IsoviscousElasticFilm(p.radius, p.material.E_star, f.viscosity, p.load)
+    hd = film_estimate(p)
     prob.film.set_speed(v0)
     info = start_coupled(
         prob, v0, v0, p.stepping, "ball", pressure_guess=s.hertz_pressure(prob.X),
@@ -272,11 +300,14 @@ def start(prob: SolidContactProblem, p: BallParameters, s: Scales) -> dict[str, 
         recs = speed_sweep(prob, [f.speed], lambda *_: None, dict, p.stepping)
         if not recs[-1].converged:
             raise SolverError(
-                f"coupled solve did not reach film.speed = {f.speed:g} m/s: {recs[-1].error}",
+                f"the start at {v0:.3g} m/s (Moes M = {moes_load(p, v0):.3g}) did not come "
+                f"down to film.speed = {f.speed:g} m/s (M = {moes_load(p, f.speed):.3g}): "
+                f"{recs[-1].error}",
                 where="ball start", partial={"speed": float(prob.film.speed.value)},
             )  # fmt: skip
         info["newton_iterations"] += recs[-1].newton_iterations
-        info["strategy"] = f"start at {v0:.3g} m/s, speed continuation ({recs[-1].steps} steps)"
+        info["strategy"] = (f"start at {v0:.3g} m/s (Moes M = {moes_load(p, v0):.3g}), speed "
+                            f"continuation ({recs[-1].steps} steps)")  # fmt: skip
     return info
 
 
@@ -313,5 +344,5 @@ build_lubricated, start_lubricated, build_dry = (
     BALL.build_lubricated, BALL.start_lubricated, BALL.build_dry
 )  # fmt: skip
 
-__all__ = ["BALL", "SCENE", "BallParameters", "build_dry", "build_lubricated", "run",
-           "start_lubricated", "sweep"]  # fmt: skip
+__all__ = ["BALL", "SCENE", "BallParameters", "build_dry", "build_lubricated", "film_estimate",
+           "moes_load", "run", "start_lubricated", "start_speed", "sweep"]  # fmt: skip

@@ -88,6 +88,20 @@ class IsoviscousElasticFilm:
             "h_min_error": h_min / hm - 1.0,
         }  # fmt: skip
 
+    def moes_load(self, u_mean: float) -> float:
+        """Moes' dimensionless load of the point contact ``M = W U^(-3/4)`` [-] at the
+        mean surface velocity ``u_mean`` [m/s] (``U``, ``W`` as above).  It grows as
+        the speed falls: about 10 is the rigid-isoviscous end, hundreds and more the
+        soft-EHL regime, where the film is a thin layer over a Hertz-like shape."""
+        check_positive("u_mean", u_mean, "m/s")
+        return self.load_parameter * self.speed_parameter(u_mean) ** -0.75
+
+    def mean_speed_for_moes(self, moes: float) -> float:
+        """The mean velocity u_m [m/s] at which Moes' ``M`` is ``moes`` [-]."""
+        check_positive("moes", moes)
+        u = (self.load_parameter / moes) ** (4.0 / 3.0)  # U = (W / M)^(4/3)
+        return u * 2.0 * self.e_star * self.radius / self.viscosity
+
     def mean_speed_for_central(self, h_c: float) -> float:
         """The mean velocity u_m [m/s] at which the central film thickness is ``h_c`` [m]."""
         check_positive("h_c", h_c, "m")
