@@ -24,16 +24,36 @@ class _Film:
         self.speed.value = v
 
 
+class _SNES:
+    """The Newton limit of the fake solver (PETSc's getTolerances/setTolerances)."""
+
+    def __init__(self) -> None:
+        self.max_it = 60
+
+    def getTolerances(self) -> tuple[float, float, float, int]:
+        return (1e-11, 1e-50, 1e-8, self.max_it)
+
+    def setTolerances(self, max_it: int) -> None:
+        self.max_it = max_it
+
+
 class _Solver:
-    """Converges in 3 steps unless the speed lies in a forbidden band or jumps too far."""
+    """Converges (in 2 + 2 jump steps, jump in decades) unless the speed lies in a
+    forbidden band, jumps too far, or the Newton limit is lower."""
 
     def __init__(self, prob: _Problem) -> None:
         self.prob = prob
+        self.snes = _SNES()
+        self.limits: list[int] = []  # the Newton limit of every solve
 
     def solve(self, where: str = "") -> SolveHistory:
         p = self.prob
         v = p.film.speed.value
         jump = abs(math.log10(v / p.sol[0]))
+        self.limits.append(self.snes.max_it)
+        if 2 + 2 * jump > self.snes.max_it:
+            p.sol = [float("nan")]
+            raise SolverError("DIVERGED_MAX_IT", where=where)
         if p.bad[0] <= v <= p.bad[1] or jump > p.max_jump:
             p.sol = [float("nan")]  # a failed solve leaves garbage behind
             raise SolverError("diverged", where=where)
@@ -81,6 +101,22 @@ def test_large_jumps_are_cut_into_steps():
     )
     assert recs[0].converged and recs[0].steps >= math.ceil(4 / 0.3)  # <= 0.3 decades a step
     assert all(0 < s < 1e-2 for s in recs[0].intermediate)
+
+
+def test_a_continuation_step_stops_at_its_own_newton_limit():
+    # 2 steps plus 2 per decade: with max_newton = 3 only steps of half a decade or less
+    # decade converge (the walk cuts the others); the solver's own limit is restored
+    prob = _Problem(1e-4, bad=(1.0, 1.0))
+    st = SpeedStepping(predictor=False, film_presolve=False, max_newton=3, max_decades=1.0)
+    recs = speed_sweep(prob, [1e-2], lambda v, r: None, lambda: {}, st)
+    assert recs[0].converged and recs[0].steps > 2  # 2 steps of a decade would do without it
+    assert set(prob.solver.limits) == {3} and prob.solver.snes.max_it == 60
+    prob = _Problem(1e-4, bad=(1.0, 1.0))
+    st = SpeedStepping(predictor=False, film_presolve=False, max_decades=1.0)
+    recs = speed_sweep(prob, [1e-2], lambda v, r: None, lambda: {}, st)
+    assert recs[0].converged and recs[0].steps == 2 and set(prob.solver.limits) == {60}
+    with pytest.raises(ParameterError, match="max_newton"):
+        SpeedStepping(max_newton=-1)
 
 
 def test_order_and_bad_speed():
