@@ -15,7 +15,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -224,25 +225,27 @@ def _coupled_step(
     predictor alone (on the S1 ball the presolved film is a state the coupled Newton
     cannot start from).  Returns the solve history; raises :class:`SolverError` if
     the step failed."""
-    if st.max_newton:
-        snes = prob.solver.snes
-        max_it = snes.getTolerances()[3]
-        snes.setTolerances(max_it=min(st.max_newton, max_it))
-        try:
-            return _step(prob, history, speed, st, presolver, rec)
-        finally:
-            prob.solver.snes.setTolerances(max_it=max_it)  # the SNES may be a new one
-    return _step(prob, history, speed, st, presolver, rec)
+    with _newton_limit(prob, st.max_newton):
+        return _step(prob, history, speed, st, presolver, rec)
 
 
-def _step(
-    prob: Any,
-    history: Sequence[tuple[float, list[Any]]],
-    speed: float,
-    st: SpeedStepping,
-    presolver: FilmPresolver | None,
-    rec: SweepRecord,
-) -> Any:
+@contextmanager
+def _newton_limit(prob: Any, max_newton: int) -> Iterator[None]:
+    """The problem's solver limited to ``max_newton`` Newton steps in the block (0:
+    its own limit)."""
+    if not max_newton:
+        yield
+        return
+    max_it = prob.solver.snes.getTolerances()[3]
+    prob.solver.snes.setTolerances(max_it=min(max_newton, max_it))
+    try:
+        yield
+    finally:
+        prob.solver.snes.setTolerances(max_it=max_it)  # the SNES may be a new one
+
+
+def _step(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float,
+          st: SpeedStepping, presolver: FilmPresolver | None, rec: SweepRecord) -> Any:  # fmt: skip
     """:func:`_coupled_step` under its Newton limit."""
     where = f"{prob.name} at speed {speed:.4g} m/s"
     tangent = None
