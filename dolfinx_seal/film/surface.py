@@ -479,7 +479,11 @@ class SurfaceFilm:
             one = dolfinx.fem.Function(self.S_theta)
             one.x.array[:] = 1.0
             pins.append(dolfinx.fem.dirichletbc(one, every))
-        self.P.x.array[:] = self.boundary_values.x.array
+        # On a periodic surface P lives on the constraint's space, whose index map
+        # appends the constraint's ghosts to S's: copy S's entries, then refresh.
+        own = self.boundary_values.x.array
+        self.P.x.array[: own.size] = own
+        self.P.x.scatter_forward()
         if self.has_theta:
             self.theta_fn.x.array[:] = 1.0
         self._pins = pins
