@@ -437,7 +437,8 @@ class SurfaceFilm:
         low = np.flatnonzero(film & (coord < lo - tol)).astype(np.int32)
         high = np.flatnonzero(film & (coord > hi + tol)).astype(np.int32)
         if comm.allreduce(int(low.size == 0 or high.size == 0), op=MPI.MAX):
-            return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)  # nothing to cut
+            self.release(solvers)  # nothing to cut: the film's own conditions (after pin)
+            return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)
         old = list(self.bcs)
         fixed = np.flatnonzero(~film).astype(np.int32)
         pinned = np.union1d(np.union1d(fixed, low), high).astype(np.int32)
@@ -455,6 +456,47 @@ class SurfaceFilm:
             kept = [b for b in solver.bcs if all(b is not o for o in self._issued_bcs)]
             solver.set_bcs(kept + self.bcs)
         return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)
+
+    def pin(self, solvers: Sequence[Any] = ()) -> None:
+        """Pin every film node: the pressure at the edge pressures (0 inside the zone)
+        and, with JFO, a full film (``theta = 1``); a dry solve of the body with the
+        film's unknowns riding along as identity rows.  The conditions replace the
+        film's in each of ``solvers``; :meth:`restrict_to_gap` (or
+        :meth:`release`) replaces them in turn.
+
+        Why: a sliding film carried through a dry solve lives on the whole band,
+        before :meth:`restrict_to_gap` cuts it to the narrow zone; on the two-scale
+        lip sector its free nodes spanned gaps from 40 nm to 105 um (conductances
+        ``g^3`` over ten decades), the constriction's pressures sat at the
+        round-off of the wide gap's rows (``|p| ~ 2 kPa`` of either sign, half the
+        nodes negative at ``theta ~ 1``), and the coupled JFO Newton crept and
+        diverged."""
+        S = self.S
+        n = S.dofmap.index_map.size_local + S.dofmap.index_map.num_ghosts
+        every = np.arange(n, dtype=np.int32)
+        pins = [dolfinx.fem.dirichletbc(self.boundary_values, every)]
+        if self.has_theta:
+            one = dolfinx.fem.Function(self.S_theta)
+            one.x.array[:] = 1.0
+            pins.append(dolfinx.fem.dirichletbc(one, every))
+        # On a periodic surface P lives on the constraint's space, whose index map
+        # appends the constraint's ghosts to S's: copy S's entries, then refresh.
+        own = self.boundary_values.x.array
+        self.P.x.array[: own.size] = own
+        self.P.x.scatter_forward()
+        if self.has_theta:
+            self.theta_fn.x.array[:] = 1.0
+        self._pins = pins
+        self._issued_bcs.extend(pins)
+        for solver in solvers:
+            kept = [b for b in solver.bcs if all(b is not o for o in self._issued_bcs + self.bcs)]
+            solver.set_bcs(kept + pins)
+
+    def release(self, solvers: Sequence[Any] = ()) -> None:
+        """Undo :meth:`pin`: the film's own conditions again in each of ``solvers``."""
+        for solver in solvers:
+            kept = [b for b in solver.bcs if all(b is not o for o in self._issued_bcs + self.bcs)]
+            solver.set_bcs(kept + self.bcs)
 
     def edge_flows(self) -> tuple[float, float]:
         """Volumetric flows [m^3/s, totals over the kinematics weight] out of the

@@ -438,8 +438,8 @@ class NonlinearSolver:
         lo = self.xl.getArray(readonly=True)
         hi = self.xu.getArray(readonly=True)
         trial = xa - fa
-        below = trial < lo
-        above = trial > hi
+        below = trial <= lo
+        above = trial >= hi
         fa[below] = xa[below] - lo[below]
         fa[above] = xa[above] - hi[above]
         del fa
