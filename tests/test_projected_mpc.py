@@ -158,3 +158,37 @@ def test_projected_blocked_with_real_unknown():
         lam.append(T._real_value(lp))
         solver.destroy()
     assert lam[1] == pytest.approx(lam[0], rel=1e-12)
+
+
+def test_projected_pins_masters_on_other_ranks():
+    """Every dof pinned (the film's dry pin): no slave is pinned without its master.
+
+    The conditions index the form's space; a master owned by another rank that is
+    not already one of its ghosts is appended to the constraint's index map only
+    (a strip four times longer than wide, cut across its length at two ranks, so the
+    periodic faces' masters sit on another rank).  Before the flags were scattered
+    through the constraint's map such a master counted as free and ``set_bcs``
+    refused the pin (the intermittent 2-rank failure of the lip sector)."""
+    import dolfinx
+    from mpi4py import MPI
+
+    V, bc = T._strip(MPI.COMM_WORLD, 0.0, 4.0, 4, 1)
+    mpc = T.dolfinx_mpc.MultiPointConstraint(V)
+    mpc.create_periodic_constraint_geometrical(
+        V, lambda x: np.isclose(x[0], 4.0), lambda x: np.vstack((x[0] - 4.0, x[1], x[2])), [bc]
+    )
+    mpc.finalize()
+    u = dolfinx.fem.Function(mpc.function_space)
+    solver = T._obstacle(V, bc, u, assembly=ProjectedMPCAssembly(mpc))
+    comm = V.mesh.comm
+    im_v, im_c = V.dofmap.index_map, mpc.function_space.dofmap.index_map
+    appended = comm.allreduce(im_c.num_ghosts - im_v.num_ghosts)
+    if comm.size > 1:
+        assert appended > 0  # the case under test is present at this partition
+    every = np.arange(im_v.size_local + im_v.num_ghosts, dtype=np.int32)
+    pin = dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), every)
+    solver.set_bcs([pin])
+    flags = solver.assembly._pinned_local(0)
+    assert flags.size == im_c.size_local + im_c.num_ghosts
+    assert comm.allreduce(int((~flags).sum())) == 0
+    solver.destroy()

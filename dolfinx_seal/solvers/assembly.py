@@ -551,13 +551,23 @@ class ProjectedMPCAssembly(MPCAssembly):
                 ui.x.array[idx] = g.x.array[idx] if hasattr(g, "x") else float(g.value)
 
     def _pinned_local(self, b: int) -> np.ndarray:
-        """Block ``b``'s local dofs (owned and ghosts) that carry a Dirichlet condition."""
+        """Block ``b``'s local dofs (owned and ghosts of the constraint's space) that
+        carry a Dirichlet condition.
+
+        The conditions index the form's space, whose ghosts are a subset of the
+        constraint's: dolfinx_mpc's index map appends the masters owned elsewhere
+        (at two ranks 583 local entries against 581).  The owned flags are exact;
+        the ghosts take their owner's flag by a forward scatter, so a master that is
+        one of the appended ghosts counts as pinned when its owner pins it."""
         im, bs = self._maps[b]
-        out = np.zeros((im.size_local + im.num_ghosts) * bs, dtype=bool)
+        n_own = im.size_local * bs
+        flags = dolfinx.fem.Function(self.mpcs[b].function_space)
         forms = self.L if self.blocked else [self.L]
         for bc in self._bcs_on(forms[b].function_spaces[0]):
-            out[np.asarray(bc.dof_indices()[0], dtype=np.int64)] = True
-        return out
+            idx = np.asarray(bc.dof_indices()[0], dtype=np.int64)
+            flags.x.array[idx[idx < n_own]] = 1.0
+        flags.x.scatter_forward()
+        return flags.x.array > 0.5
 
     def _slave_diagonal(self) -> PETSc.Mat:
         """``D``: 1 on the owned slave rows (in the solution vector's layout)."""
