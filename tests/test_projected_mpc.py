@@ -65,18 +65,26 @@ def _matvec_difference(A, B):
     return worst
 
 
-def _obstacle(cls):
+def _periodic_strip(length, n):
+    """The strip of test_periodic_vi, ``length`` long, periodic along x: V, its
+    Dirichlet condition, the finalised constraint and an unknown on its space."""
+    import dolfinx
     from mpi4py import MPI
 
-    V, bc = T._strip(MPI.COMM_WORLD, 0.0, 1.0, 8, 1)
+    V, bc = T._strip(MPI.COMM_WORLD, 0.0, length, n, 1)
     mpc = T.dolfinx_mpc.MultiPointConstraint(V)
     mpc.create_periodic_constraint_geometrical(
-        V, lambda x: np.isclose(x[0], 1.0), lambda x: np.vstack((x[0] - 1.0, x[1], x[2])), [bc]
+        V,
+        lambda x: np.isclose(x[0], length),
+        lambda x: np.vstack((x[0] - length, x[1], x[2])),
+        [bc],
     )
     mpc.finalize()
-    import dolfinx
+    return V, bc, mpc, dolfinx.fem.Function(mpc.function_space)
 
-    u = dolfinx.fem.Function(mpc.function_space)
+
+def _obstacle(cls):
+    V, bc, mpc, u = _periodic_strip(1.0, 8)
     return T._obstacle(V, bc, u, assembly=cls(mpc))
 
 
@@ -140,18 +148,10 @@ def _max():
 def test_projected_blocked_with_real_unknown():
     """A constrained field and an unconstrained real unknown (blocked): the projected
     assembly gives the force-controlled periodic obstacle of test_periodic_vi."""
-    import dolfinx
-    from mpi4py import MPI
 
     lam = []
     for cls in (MPCAssembly, ProjectedMPCAssembly):
-        V, bc = T._strip(MPI.COMM_WORLD, 0.0, 1.0, 8, 1)
-        mpc = T.dolfinx_mpc.MultiPointConstraint(V)
-        mpc.create_periodic_constraint_geometrical(
-            V, lambda x: np.isclose(x[0], 1.0), lambda x: np.vstack((x[0] - 1.0, x[1], x[2])), [bc]
-        )
-        mpc.finalize()
-        u = dolfinx.fem.Function(mpc.function_space)
+        V, bc, mpc, u = _periodic_strip(1.0, 8)
         solver, lp = T._blocked(V, bc, u, 1.0, assembly=cls([mpc, None]))
         h = solver.solve()
         assert h.reason > 0
@@ -170,15 +170,8 @@ def test_projected_pins_masters_on_other_ranks():
     through the constraint's map such a master counted as free and ``set_bcs``
     refused the pin (the intermittent 2-rank failure of the lip sector)."""
     import dolfinx
-    from mpi4py import MPI
 
-    V, bc = T._strip(MPI.COMM_WORLD, 0.0, 4.0, 4, 1)
-    mpc = T.dolfinx_mpc.MultiPointConstraint(V)
-    mpc.create_periodic_constraint_geometrical(
-        V, lambda x: np.isclose(x[0], 4.0), lambda x: np.vstack((x[0] - 4.0, x[1], x[2])), [bc]
-    )
-    mpc.finalize()
-    u = dolfinx.fem.Function(mpc.function_space)
+    V, bc, mpc, u = _periodic_strip(4.0, 4)
     solver = T._obstacle(V, bc, u, assembly=ProjectedMPCAssembly(mpc))
     comm = V.mesh.comm
     im_v, im_c = V.dofmap.index_map, mpc.function_space.dofmap.index_map
