@@ -340,6 +340,18 @@ class SurfaceFilm:
                     * self.da
                     * self.ds1
                 )
+            if self.has_theta:
+                # film storage d(g theta)/dt, by implicit Euler in a pseudo-time
+                # (pseudo_transient_solve); 1/dt = 0: the steady film.  Lumped (the
+                # vertex rule): a one-point storage matrix is singular for the
+                # node-to-node oscillation of theta
+                self.inv_dt = dolfinx.fem.Constant(mesh, 0.0)  # 1/s
+                self.theta_old = dolfinx.fem.Function(self.theta_fn.function_space)
+                self.theta_old.x.array[:] = 1.0
+                R += (
+                    self.inv_dt * self.g * (self.theta_fn - self.theta_old) * q
+                    * self.da * self.ds1
+                )  # fmt: skip
         self.R_P = self.row_weight * R + dolfinx.fem.Constant(mesh, 0.0) * self.P * q * dx
 
         bound_lo = 0.0 if pr.cavitation == "reynolds" else None

@@ -64,6 +64,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
 from dolfinx_seal.mpi import get_logger, world
@@ -671,7 +672,10 @@ def solve_film(lub: SectorLip, where: str) -> int:
     Without JFO one Newton solve.  With JFO the fixed-pattern semismooth Newton
     (``semismooth``: identity rows at the bounds the natural residual
     ``x - clip(x - F)`` finds active, a node exactly on its bound counted active)
-    from the last state; if that fails, once more from a full film (``theta = 1``
+    from the last state; if that fails, by pseudo-time steps from the last state
+    (:func:`~dolfinx_seal.film.pseudo_time.pseudo_transient_solve`: the active set
+    moves a little per step instead of cycling); if that fails too, once more from
+    a full film (``theta = 1``
     everywhere, the pressure of the last state), where the first step is the
     full-film Reynolds solution and the next ones cavitate the nodes whose pressure
     it left negative.  Measured on the coarse two-scale sector (q_th = 2 q0, 5.2 um
@@ -684,13 +688,20 @@ def solve_film(lub: SectorLip, where: str) -> int:
     if not lub.problem.film.has_theta:
         return solver.solve(where=where).newton_iterations
     film = lub.problem.film
-    P0 = film.P.x.array.copy()
+    P0, T0 = film.P.x.array.copy(), film.theta_fn.x.array.copy()
+    its = 0
     try:
         return solver.solve(where=f"{where}: semismooth").newton_iterations
     except SolverError as e:
-        its = len(e.history.residual_norms) if e.history else 0
-        get_logger().info("%s: semismooth from the last state failed (%s); from a full film",
+        its += e.history.newton_iterations
+        get_logger().info("%s: semismooth from the last state failed (%s); pseudo-time steps",
                           where, e.what)  # fmt: skip
+    film.P.x.array[:], film.theta_fn.x.array[:] = P0, T0
+    try:
+        return its + pseudo_transient_solve(film, solver, where)
+    except SolverError as e:
+        its += e.history.newton_iterations
+        get_logger().info("%s: pseudo-time stepping failed (%s); from a full film", where, e.what)
     film.P.x.array[:] = P0
     film.theta_fn.x.array[:] = 1.0
     hist = solver.solve(where=f"{where}: semismooth from a full film")

@@ -92,3 +92,48 @@ def test_bad_mesh_for_the_gap_is_rejected():
 
     with pytest.raises(ParameterError, match="cells = 7"):
         RigidSliderFilm(gap, op, 7, "jfo")
+
+
+def test_pseudo_time_reaches_the_steady_jfo_film(case):
+    """Pseudo-transient continuation (the film's storage term, implicit Euler in a
+    growing pseudo-time step, then the steady solve) from a full film at rest
+    reaches the steady film of the direct solve (the same semismooth Newton from
+    the same full film, converged on its step): the same discrete equations, so
+    the same solution to round-off, and the reference's free boundaries and load
+    as the direct solve."""
+    import numpy as np
+
+    from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
+    from dolfinx_seal.solvers import SNESOptions
+
+    _, gap, op, jfo, _ = case
+    cells = 1000
+    opts = SNESOptions(max_it=60, snes_type="semismooth", rtol=1e-20, atol=1e-300, dtol=1e300)
+    direct = RigidSliderFilm(gap, op, cells, "jfo", snes=opts)
+    direct.solve()
+    p0 = direct.film.film_values()["p"]
+    s = RigidSliderFilm(gap, op, cells, "jfo", snes=opts)
+    s.film.P.x.array[:] = 0.0
+    s.film.theta_fn.x.array[:] = 1.0
+    pseudo_transient_solve(s.film, s.solver, "slider")
+    assert float(s.film.inv_dt.value) == 0.0  # left steady
+    v = s.film.film_values()
+    assert np.abs(v["p"] - p0).max() <= 1e-11 * np.abs(p0).max()  # measured 4e-14, 4e-16
+    q = s.quantities()
+    dx = gap.length / cells
+    assert abs(q["x_rupture"] - jfo.x_rupture) <= 2 * dx
+    assert abs(q["x_reformation"] - jfo.x_reformation) <= 2 * dx
+    assert q["load"] == pytest.approx(jfo.load, rel=1e-4)
+    assert q["mass_balance_error"] < 1e-9
+
+
+def test_pseudo_time_needs_the_jfo_film():
+    from dolfinx_seal.errors import ParameterError
+    from dolfinx_seal.film.pseudo_time import PseudoTimeOptions, pseudo_transient_solve
+
+    gap, op = ref.pocket_slider_benchmark()
+    s = RigidSliderFilm(gap, op, 200, "reynolds")
+    with pytest.raises(ParameterError, match=r"film\.cavitation"):
+        pseudo_transient_solve(s.film, s.solver, "slider")
+    with pytest.raises(ParameterError, match="last"):
+        PseudoTimeOptions(first=10.0, last=1.0)
