@@ -73,6 +73,15 @@ MAX_START_MOES = 500.0
 GAP_CLOSURE = 0.5  # a Newton step closes no film gap by more than this fraction of itself
 
 
+#: Newton steps allowed to one continuation step of the ball's speed walk
+#: (``stepping.max_newton``): a step that needs more is halved.  Measured on the
+#: 30-speed sweep of ``bench/perf.py`` (2 ranks): the same 118 accepted Newton
+#: steps, residual evaluations 569 -> 331, Jacobians 149 -> 138, 542 s -> 469 s,
+#: mu, h_central and h_min within 6.4e-8 of the uncapped walk
+#: (docs/performance.md).  The start is not capped.
+BALL_MAX_NEWTON = 12
+
+
 @dataclass(frozen=True)
 class BallParameters:
     """Ball on a flat (SI units).
@@ -133,7 +142,9 @@ class BallParameters:
     film: FilmParams = field(default_factory=lambda: FilmParams(speed=0.01))
     film_extent: float = 3.0
     sweep_order: str = "down"
-    stepping: SpeedStepping = field(default_factory=lambda: SpeedStepping(film_presolve=False))
+    stepping: SpeedStepping = field(
+        default_factory=lambda: SpeedStepping(film_presolve=False, max_newton=BALL_MAX_NEWTON)
+    )
     max_start_moes: float = MAX_START_MOES
 
     def __post_init__(self) -> None:
