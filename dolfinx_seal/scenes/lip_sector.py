@@ -93,6 +93,7 @@ from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
 from dolfinx_seal.solid.revolve import RevolvedState, serial_copy
 from dolfinx_seal.solid.step_limits import StepLimits, surface_gap_limiter
 from dolfinx_seal.solvers import RotationalPeriodicity, SNESOptions
+from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
 from dolfinx_seal.surface.asperity import LawHomotopy, area_fraction
 from geometry.lip import LipGeometry, LipSealParams
 from geometry.lip_sector import LipSectorParams
@@ -845,6 +846,7 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
     if film.has_theta:
         cav = _cavitated_area(lub)
         out["cavitation_fraction"] = cav / band_area
+        out.update(_cavitation_place(lub, z_c))
     if film.has_couette:
         out.update(_sliding_results(lub, params, band_area))
     return out
@@ -907,14 +909,44 @@ def _cavitated_area(lub: SectorLip) -> float:
     return lub.problem.integrate(cav * film.da, lub.problem.ds_c) * lub.per_revolution
 
 
+def _cavitation_place(lub: SectorLip, z_centre: float) -> dict[str, float]:
+    """Where the film is cavitated (S0 fig 11), over the cavitated area (nothing
+    without cavitation):
+
+    * ``cavitation_axial_offset`` [m]: its axial centroid (current ``z``) from the
+      contact's centre ``z_centre``, positive towards the air side (``z > 0``): S0's
+      zones start on the low-pressure side and grow towards the high-pressure side;
+    * ``cavitation_divergent_fraction`` [-]: the part of it where the gap opens along
+      the sliding (``U dg/dx_1 > 0``, the trailing side of an asperity), where a
+      film the shaft drags along loses pressure.
+    """
+    prob, film = lub.problem, lub.problem.film
+    cav = ufl.conditional(ufl.lt(film.theta_fn, 1.0 - 1e-8), 1.0, 0.0) * film.da
+    area = prob.integrate(cav, prob.ds_c)
+    if area <= 0.0:
+        return {}
+    e_theta = prob.counter.sliding_direction(prob.x)
+    opening = float(np.sign(film.speed.value)) * ufl.dot(film.surface_grad(film.g), e_theta)
+    divergent = ufl.conditional(ufl.gt(opening, 0.0), 1.0, 0.0)
+    z = prob.integrate(cav * prob.x[2], prob.ds_c) / area
+    return {
+        "cavitation_axial_offset": z - z_centre,
+        "cavitation_divergent_fraction": prob.integrate(cav * divergent, prob.ds_c) / area,
+    }
+
+
 # ---------------------------------------------------------------- run, sweep
 def solve_point(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
     """Dry equilibrium with the roughness, then the sealed pressures, then (sliding)
-    the shaft speed; the results."""
+    the shaft speed (:func:`pressurise_sliding`); the results."""
     t0 = time.perf_counter()
     dry = solve_dry(lub, params)
-    pr = solve_pressures(lub, params)
-    sp = solve_speed(lub, params)
+    if lub.problem.film.has_couette and lub.film_only is not None:
+        sp = pressurise_sliding(lub, params, params.film.speed)
+        pr = {"pressure_steps": sp["pressure_steps"], "newton_iterations": 0}
+    else:
+        pr = solve_pressures(lub, params)
+        sp = solve_speed(lub, params)
     res = results(lub, params)
     res.update(dry)
     res.update(pressure_steps=pr["pressure_steps"], speed_steps=sp["continuation_steps"],
@@ -925,13 +957,87 @@ def solve_point(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
 
 
 #: m/s: the sliding sector is pressurised at this shaft speed (or slower), where
-#: the Couette flux is a small part of the static film's, then walked up
+#: the Couette flux is a small part of the static film's
 START_SPEED = 1e-3
+
+#: the sealed pressure difference brought across a fast-sliding band, as a fraction
+#: of it: first step 5 %, doubled after each converged step, halved after a failed
+#: one, given up below 0.1 %.  Measured on the coarse two-scale sector at 1 m/s and
+#: 0.05 MPa (one rank): in one step the film's pseudo-time stalled at 1e4 t_e; in
+#: steps of 5, 5, 10, 20, 30, 30 % every step converged (17-91 Newton steps each)
+PRESSURE_RAMP = StepControl(first=0.05, grow=2.0, easy=None, cut=0.5, min_step=1e-3,
+                            max_step=0.5)  # fmt: skip
+
+#: the walk in log10 of the shaft speed between the points of a speed sweep [decades]:
+#: a target within ``first`` decades is tried in one step; a failed step is halved,
+#: given up below 1/32 decade.  Measured on the coarse two-scale sector at 0.05 MPa
+#: walking down from 1 m/s in half decades: every step converged, 3-270 Newton steps
+SPEED_WALK = StepControl(first=1.0, grow=2.0, easy=None, cut=0.5, min_step=1.0 / 32.0,
+                         max_step=1.0)  # fmt: skip
 
 
 def start_speed(speed: float) -> float:
     """The shaft speed [m/s] a sliding sector is pressurised at before it walks to ``speed``."""
     return min(speed, START_SPEED)
+
+
+def _film_state(lub: SectorLip) -> tuple[Any, Any]:
+    film = lub.problem.film
+    return film.P.x.array.copy(), film.theta_fn.x.array.copy()
+
+
+def _set_film_state(lub: SectorLip, state: tuple[Any, Any]) -> None:
+    film = lub.problem.film
+    film.P.x.array[:], film.theta_fn.x.array[:] = state
+
+
+def pressurise_sliding(lub: SectorLip, params: LipStaticParameters, speed: float) -> dict[str, Any]:
+    """The frozen sliding film (``lip-dynamic``) at the sealed pressures of ``params``
+    and the shaft speed ``speed`` [m/s], from the dry state.
+
+    With equal sealed pressures, or ``speed`` at most :data:`START_SPEED`: the film
+    at the pressures at :func:`start_speed`, then at ``speed`` (:func:`solve_film`).
+    With a pressure difference on a faster shaft, the cavitated zones would have to
+    move across the band at once (on the two-scale sector the semismooth Newton's
+    active set cycled above 1 mm/s), so: equal pressures (the air's) at
+    :data:`START_SPEED`, then at ``speed``, then the oil pressure raised at
+    ``speed`` by adaptive steps (:data:`PRESSURE_RAMP`), each a :func:`solve_film`.
+
+    Raises:
+        SolverError: naming the stage; ``partial`` holds the pressure fraction reached.
+    """
+    film = lub.problem.film
+    t0 = time.perf_counter()
+    oil, air = params.oil_pressure, params.air_pressure
+    name = lub.problem.name
+    v0 = start_speed(speed)
+    staged = oil != air and speed > START_SPEED
+    set_sealed_pressures(lub, air if staged else oil, air)
+    film.set_speed(v0)
+    its = solve_film(lub, where=f"{name} at {v0:g} m/s (frozen lip)")
+    if speed != v0:
+        film.set_speed(speed)
+        its += solve_film(lub, where=f"{name} at {speed:g} m/s (frozen lip)")
+    steps = 1
+    if staged:
+        where = f"{name} at {speed:g} m/s, oil pressure raised to {oil:g} Pa"
+        walk = AdaptiveWalk(
+            PRESSURE_RAMP, lambda t: set_sealed_pressures(lub, air + t * (oil - air), air),
+            lambda t: solve_film(lub, where=f"{where} ({100 * t:.3g} %)"),
+            lambda: _film_state(lub), lambda s: _set_film_state(lub, s),
+            name=where,
+        )  # fmt: skip
+        res = walk.walk(0.0, 1.0)
+        its += res.newton_iterations
+        steps = res.steps
+        if not res.converged:
+            raise SolverError(
+                f"the sealed pressure difference: {res.error}", where=where,
+                history=res.last_error.history if res.last_error else None,
+                partial={"pressure_fraction": res.reached},
+            )  # fmt: skip
+    return {"newton_iterations": its, "pressure_steps": steps, "continuation_steps": 1,
+            "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
 
 def solve_speed(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
@@ -1018,44 +1124,73 @@ def sweep(
 def _speed_sweep(
     params: LipStaticParameters, out: Path, values: list[float], on_point: Any
 ) -> list[dict[str, Any]]:
-    """The speed sweep of ``lip-dynamic`` (:func:`sweep`)."""
+    """The speed sweep of ``lip-dynamic`` (:func:`sweep`): the film pressurised at the
+    fastest speed (:func:`pressurise_sliding`), then walked down through the others
+    in log10 of the speed (:data:`SPEED_WALK`, each step from the last converged
+    state).  A speed the walk does not reach is recorded in ``sweep_failures.csv``
+    and the walk goes on to the next one from the last converged state.  Rows are
+    returned in ascending speed."""
     from dolfinx_seal.output import write_sweep_failures
     from dolfinx_seal.scenes.lip_sector_maps import write_maps
 
-    speeds = sorted(float(v) for v in values)
-    p0 = set_parameter(params, "film.speed", speeds[0])  # refuses a speed <= 0
+    speeds = sorted({float(v) for v in values}, reverse=True)
+    top = set_parameter(params, "film.speed", speeds[0])  # refuses a speed <= 0
+    for v in speeds[1:]:
+        set_parameter(params, "film.speed", v)
     rows: list[dict[str, Any]] = []
     failed: list[dict[str, Any]] = []
-    lub = build(p0)
+    lub = build(top)
     try:
         t0 = time.perf_counter()
-        dry = solve_dry(lub, p0)
-        pr = solve_pressures(lub, p0)
+        dry = solve_dry(lub, top)
+        try:
+            pr = pressurise_sliding(lub, top, speeds[0])
+        except SolverError as e:
+            failed += [{"speed": v, "error": f"not pressurised: {e.what}"} for v in speeds]
+            write_sweep_failures(out, failed)
+            raise
         first = {**dry, "pressure_steps": pr["pressure_steps"],
-                 "newton_iterations": dry["dry_newton_iterations"] + pr["newton_iterations"]}  # fmt: skip
+                 "newton_iterations": dry["dry_newton_iterations"] + pr["newton_iterations"],
+                 "continuation_steps": 1}  # fmt: skip
+        film = lub.problem.film
+        counted = {"its": 0, "steps": 0}
 
-        def point(v: float, r: dict[str, Any]) -> None:
-            pv = set_parameter(params, "film.speed", v)
-            rr = results(lub, pv)
-            extra = first if not rows else {"newton_iterations": 0}
-            rr.update(extra)
-            rr["newton_iterations"] += int(r.get("newton_iterations", 0))
-            rr.update(continuation_steps=r.get("continuation_steps", 0), converged=True,
-                      wall_time_s=r.get("wall_time_s", time.perf_counter() - t0))  # fmt: skip
-            rows.append(rr)
-            on_point(v, rr)
-            write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
+        def accepted(_v: float, its: int) -> None:
+            counted["its"] += its
+            counted["steps"] += 1
 
+        walk = AdaptiveWalk(
+            SPEED_WALK, film.set_speed,
+            lambda v: solve_film(lub, where=f"{lub.problem.name} at {v:g} m/s (frozen lip)"),
+            lambda: _film_state(lub), lambda s: _set_film_state(lub, s),
+            coordinate=AdaptiveWalk.log_speed(1.0), on_accept=accepted,
+            name=f"{lub.problem.name}: speed walk",
+        )  # fmt: skip
         for v in speeds:
+            t1 = time.perf_counter()
+            if rows or failed:
+                counted.update(its=0, steps=0)
+                res = walk.walk(float(film.speed.value), v)
+                if not res.converged:
+                    failed.append({"speed": v, "error": res.error})
+                    get_logger().error("%s: %g m/s not reached: %s", params.scene_name, v,
+                                       res.error)  # fmt: skip
+                    continue
+                info = {"newton_iterations": counted["its"],
+                        "continuation_steps": counted["steps"]}  # fmt: skip
+            else:
+                info = first
             pv = set_parameter(params, "film.speed", v)
-            try:
-                point(v, solve_speed(lub, pv))
-            except SolverError as e:
-                failed.append({"speed": v, "error": e.what})
+            r = results(lub, pv)
+            r.update(info, converged=True,
+                     wall_time_s=time.perf_counter() - (t0 if info is first else t1))  # fmt: skip
+            rows.append(r)
+            on_point(v, r)
+            write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
     finally:
         lub.destroy()
     write_sweep_failures(out, failed)
-    return rows
+    return sorted(rows, key=lambda r: r["speed"])
 
 
 def plot_sweep(rows: list[dict[str, Any]], out_dir: Path, name: str) -> None:

@@ -268,6 +268,32 @@ def test_sliding_sector_reproduces_the_axisymmetric_lip(sliding, axisymmetric):
         assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-6)
 
 
+def test_speed_sweep_walks_down_to_the_same_films(sliding, mpi_tmp_path):
+    """The scene's speed sweep (``dolfinx-seal sweep lip-dynamic film.speed``) takes
+    another path to the same points as the fixture: equal sealed pressures at
+    1 mm/s, then 0.1 m/s, the oil pressure raised there in steps, then the speed
+    walked down to 1 mm/s.  Without cavitation the frozen film is unique, so the
+    two paths must give the same films to the solver's tolerance (the film rows
+    converge on their Newton step, ``FILM_ONLY_TOLERANCES``; measured at one rank:
+    leakage and torque equal to the last digit; 4 Newton steps from 0.1 m/s to
+    1 mm/s in 2 walk steps, the oil pressure raised in 5 steps).  Tolerance: 1e-7
+    on the leakage, 1e-9 on the torque (two ranks factorise in another order)."""
+    from dolfinx_seal.scenes import lip_sector
+
+    p = make_parameters("lip-dynamic", values={**CHECK, "film": {"speed": SPEEDS[1]}})
+    seen = []
+    rows = lip_sector.sweep(p, mpi_tmp_path, "film.speed", list(SPEEDS),
+                            lambda v, r: seen.append(v))  # fmt: skip
+    assert seen == sorted(SPEEDS, reverse=True)
+    assert [r["speed"] for r in rows] == list(SPEEDS)
+    assert not (mpi_tmp_path / "sweep_failures.csv").exists()
+    for r, ref in zip(rows, sliding, strict=True):
+        assert r["converged"]
+        assert r["leakage_rate"] == pytest.approx(ref["leakage_rate"], rel=1e-7)
+        assert r["friction_torque"] == pytest.approx(ref["friction_torque"], rel=1e-9)
+    assert rows[-1]["pressure_steps"] > 1  # the oil pressure was raised in steps
+
+
 @pytest.mark.parametrize(
     ("values", "name"),
     [({"feedback": True}, "feedback"), ({"film": {"speed": 0.0}}, "film.speed"),
@@ -363,3 +389,53 @@ def test_two_scale_sector_slides_and_pumps_linearly_in_the_speed():
         assert r["friction_torque_couette"] == pytest.approx(
             k * base["friction_torque_couette"], rel=1e-6
         )
+
+
+#: S0 fig 11 on the coarse two-scale sector: 0.05 MPa sealed, three speeds
+FIG11 = {**TWO_SCALE, "oil_pressure": 0.05e6}
+FIG11_SPEEDS = (1e-4, 1e-3, 1e-2)
+
+
+@pytest.mark.slow
+def test_two_scale_cavitation_grows_with_speed_towards_the_oil_side(mpi_tmp_path):
+    """S0 fig 11 under a pressure drop: the scene's sweep (pressurised at 1e-2 m/s in
+    steps, walked down) converges at every speed, and
+
+    * the cavitated area grows with the speed, and its axial centroid, on the air
+      (low-pressure) side of the contact centre, moves towards the oil side
+      (measured walking down from 1 m/s: 0.308 / 0.548 / 0.613 of the band at
+      1e-4 / 1e-3 / 1e-2 m/s, centroid 128 / 105 / 94 um on the air side);
+    * at the slowest speed the cavitation sits where the gap opens along the
+      sliding, the trailing side of the asperities (measured 0.67 of the
+      cavitated area; a zone blind to the gap slope would give about 0.5);
+    * the film at 1 mm/s is the same whether the pressure drop was set at 1 mm/s
+      or brought in at 1e-2 m/s and walked down: at these speeds the JFO film is
+      unique (measured: 1.7120e-13 m^3/s both ways, to 4 digits; a periodic band
+      can hold several films at high speed, docs/scenes/lip-sector.md).
+      Tolerance 1e-5 on leakage and torque: the film converges on its step
+      (nodal mass balance 1e-9..1e-7); at two ranks the static allowance 1e-4.
+    """
+    from dolfinx_seal.scenes import lip_sector
+
+    p = make_parameters("lip-dynamic", values={**FIG11, "film": {"speed": FIG11_SPEEDS[-1]}})
+    rows = lip_sector.sweep(p, mpi_tmp_path, "film.speed", list(FIG11_SPEEDS), lambda v, r: None)
+    one = MPI.COMM_WORLD.size == 1
+    assert [r["speed"] for r in rows] == list(FIG11_SPEEDS)
+    for r in rows:
+        assert r["nodal_mass_balance_error"] < (1e-7 if one else 1e-4)
+    cav = [r["cavitation_fraction"] for r in rows]
+    off = [r["cavitation_axial_offset"] for r in rows]
+    assert cav[0] < cav[1] < cav[2]
+    assert all(o > 0.0 for o in off)
+    assert off[0] > off[1] > off[2]
+    assert rows[0]["cavitation_divergent_fraction"] > 0.6
+    p1 = set_parameter(p, "film.speed", FIG11_SPEEDS[1])
+    lub = lip_sector.build(p1)
+    try:
+        direct = lip_sector.solve_point(lub, p1)
+    finally:
+        lub.destroy()
+    tol = 1e-5 if one else 1e-4
+    assert rows[1]["leakage_rate"] == pytest.approx(direct["leakage_rate"], rel=tol)
+    assert rows[1]["friction_torque"] == pytest.approx(direct["friction_torque"], rel=tol)
+    assert rows[1]["cavitation_fraction"] == pytest.approx(direct["cavitation_fraction"], abs=1e-3)
