@@ -1079,8 +1079,8 @@ def sweep(
     params: LipStaticParameters, out: Path, name: str, values: list[float], on_point: Any
 ) -> list[dict[str, Any]]:
     """Over ``oil_pressure``: one sector, each point from the last (ascending); over
-    ``film.speed`` (``lip-dynamic``): one sector pressurised at the start speed,
-    then speed continuation through the speeds in ascending order (each target
+    ``film.speed`` (``lip-dynamic``): one sector pressurised at the fastest speed,
+    then walked down through the others (:func:`_speed_sweep`; each target
     converged or recorded in ``sweep_failures.csv``); over any other parameter:
     each point built and solved afresh (a failed one is recorded and the sweep
     goes on)."""
