@@ -95,6 +95,28 @@ def test_lip_demo_tiny(mpi_tmp_path):
             "separation"} <= names  # fmt: skip
 
 
+def test_lip_sector_demo_tiny(mpi_tmp_path):
+    """The sector demo on the tests' small open sector (q_th = q0, 10.5 um band
+    elements, frozen lip), two speeds: the static maps, the sweep and its plot."""
+    pytest.importorskip("dolfinx_mpc")
+    from demos import lip_sector as demo
+
+    out = mpi_tmp_path / "sector"
+    sets = ["roughness.q0=3e5", "roughness.q_th=3e5", "roughness.h_rms=1e-6",
+            "sector.height=0.3e-3", "sector.band_oil=0.3e-3", "sector.band_air=0.6e-3",
+            "lip.h_contact=20e-6", "feedback=false"]  # fmt: skip
+    argv = ["--speeds", "1e-3", "0.1", "--out", str(out)]
+    assert demo.main(argv + [a for s in sets for a in ("--set", s)]) == 0
+    from dolfinx_seal.mpi import COMM_WORLD
+
+    COMM_WORLD.barrier()
+    assert (out / "static.csv").read_text().count("\n") == 2
+    assert (out / "dynamic" / "sweep.csv").read_text().count("\n") == 3
+    for name in ("static/maps.png", "static/fields.xdmf", "dynamic/speed_1.000e-01/maps.png",
+                 "cavitation.png"):  # fmt: skip
+        assert (out / name).stat().st_size > 500, name
+
+
 def test_cylinder_demo_tiny(mpi_tmp_path):
     """The cylinder Stribeck demo: one curve, two speeds, 8 elements per half-width."""
     out = mpi_tmp_path / "stribeck"
