@@ -5,9 +5,11 @@
   roughness homotopy, sealed pressures), wall time of each stage, MUMPS memory
   (INFOG(21): largest on one rank, INFOG(22): total, MB) and the results.
 * ``dynamic``: a speed sweep of ``lip-dynamic`` (six speeds by default) from one
-  pressurised sector: per point the Newton steps, continuation steps, time,
-  friction torque and its parts, leakage or pumping rate, cavitation fraction;
-  targets not reached are listed.
+  sector pressurised at the fastest speed and walked down
+  (``lip_sector.sweep``): per point, in the order solved, the Newton steps,
+  continuation steps, time, friction torque and its parts, leakage or pumping
+  rate, cavitation fraction and place, counter-gradient fraction, mass balance;
+  targets not reached are in ``sweep_failures.csv``.
 * ``levels``: the static point on several band resolutions (``--epw``, elements
   per lambda_th): leakage, torque and radial load against run time, with
   observed orders against the finest level.
@@ -43,14 +45,14 @@ KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction
         "max_contact_pressure", "mass_balance_error", "nodal_mass_balance_error")  # fmt: skip
 
 
-def mumps_memory(lub: Any) -> dict[str, float]:
+def mumps_memory(solver: Any, prefix: str = "mumps") -> dict[str, float]:
     """MUMPS INFOG(21) (largest on one rank) and INFOG(22) (total) [MB] of the last
-    factorisation of the coupled solver."""
+    factorisation of ``solver`` (a :class:`~dolfinx_seal.solvers.NonlinearSolver`)."""
     try:
-        F = lub.problem.solver._snes.getKSP().getPC().getFactorMatrix()
+        F = solver._snes.getKSP().getPC().getFactorMatrix()
         return {
-            "mumps_mb_max": float(F.getMumpsInfog(21)),
-            "mumps_mb_total": float(F.getMumpsInfog(22)),
+            f"{prefix}_mb_max": float(F.getMumpsInfog(21)),
+            f"{prefix}_mb_total": float(F.getMumpsInfog(22)),
         }
     except Exception:  # not factored by MUMPS (yet)
         return {}
@@ -64,8 +66,16 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
     t_build = time.perf_counter() - t0
     try:
         dry = lip_sector.solve_dry(lub, p)
-        pr = lip_sector.solve_pressures(lub, p)
-        sp = lip_sector.solve_speed(lub, p)
+        mem = mumps_memory(lub.problem.solver)
+        if lub.problem.film.has_couette:  # sliding: lip_sector.solve_point's path
+            pr = lip_sector.pressurise_sliding(lub, p, p.film.speed)
+            pr["solve_time_s"] = pr["speed_time_s"]
+            sp = {"newton_iterations": 0}
+        else:
+            pr = lip_sector.solve_pressures(lub, p)
+            sp = lip_sector.solve_speed(lub, p)
+        if lub.film_only is not None:
+            mem.update(mumps_memory(lub.film_only, "film_mumps"))
         res = lip_sector.results(lub, p)
         row = {
             "ranks": COMM_WORLD.size, "dofs": res["dofs"], "periodic_slaves": res["periodic_slaves"],
@@ -75,7 +85,7 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
             "dry_newton": dry["dry_newton_iterations"], "roughness_steps": dry["roughness_steps"],
             "dry_time_s": dry["dry_time_s"], "pressure_newton": pr["newton_iterations"],
             "pressure_time_s": pr["solve_time_s"], "speed_newton": sp["newton_iterations"],
-            "wall_time_s": time.perf_counter() - t0, **mumps_memory(lub),
+            "wall_time_s": time.perf_counter() - t0, **mem,
         }  # fmt: skip
         row.update({k: res[k] for k in KEYS})
     finally:
@@ -101,7 +111,13 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
                "friction_torque_poiseuille": r["friction_torque_poiseuille"],
                "leakage_rate": r["leakage_rate"], "pumping_rate": r.get("pumping_rate", math.nan),
                "cavitation_fraction": r.get("cavitation_fraction", math.nan),
-               "mass_balance_error": r["mass_balance_error"]}  # fmt: skip
+               "cavitation_axial_offset": r.get("cavitation_axial_offset", math.nan),
+               "cavitation_divergent_fraction": r.get("cavitation_divergent_fraction", math.nan),
+               "counter_gradient_fraction": r.get("counter_gradient_fraction", math.nan),
+               "max_fluid_pressure": r["max_fluid_pressure"],
+               "fluid_load_fraction": r["fluid_load_fraction"],
+               "mass_balance_error": r["mass_balance_error"],
+               "nodal_mass_balance_error": r["nodal_mass_balance_error"]}  # fmt: skip
         t_last[0] = now
         rows.append(row)
         writer.append(row)
