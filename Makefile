@@ -6,10 +6,13 @@ NP3 ?= 3
 XDIST ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench bench-perf soak stability env
+.PHONY: demo demo-ball demo-sector test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench bench-perf soak stability env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
+
+demo-sector:  ## S0's two-scale lip seal on a periodic 3D sector: maps at rest, cavitation against speed (results/demo-sector)
+	$(DX) mpirun -n $(NP) python3 demos/lip_sector.py --out results/demo-sector
 
 demo-ball:  ## the former main demo: a short ball Stribeck sweep (writes into results/demo-ball)
 	$(DX) mpirun -n $(NP) python3 demos/ball_stribeck.py --out results/demo-ball

@@ -24,7 +24,7 @@
 # * `cavitation.png`: cavitated area and its place, torque and the net oil
 #   flow against the shaft speed.
 #
-# Run: `scripts/dx mpirun -n 2 python3 demos/lip_sector.py [--out results/lip-sector-demo]`
+# Run: `make demo-sector`, or `scripts/dx mpirun -n 2 python3 demos/lip_sector.py [--out DIR]`
 # (about 10 minutes on two cores on the coarsest band).
 
 # %%
