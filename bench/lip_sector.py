@@ -36,7 +36,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from dolfinx_seal.mpi import COMM_WORLD, print0
+from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.params import parse_overrides
 from dolfinx_seal.scenes import lip_sector, make_parameters
@@ -148,6 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--scene", default="lip-static")
     ap.add_argument("--out", default="bench/results")
     a = ap.parse_args(argv)
+    setup_logging("INFO")  # the stages and every fallback, on stderr
     out = Path(a.out)
     values = parse_overrides(a.set)
     if a.mode == "dynamic":

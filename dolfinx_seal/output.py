@@ -431,6 +431,9 @@ def write_sweep_failures(out_dir: str | Path, failed: Sequence[Mapping[str, Any]
     file when there are none."""
     if failed and world().rank == 0:
         lines = ["speed,error\n"] + [_csv_line([f["speed"], f["error"]]) for f in failed]
+        Path(out_dir).mkdir(
+            parents=True, exist_ok=True
+        )  # a sweep that failed before its first point
         write_text_atomic(Path(out_dir) / "sweep_failures.csv", "".join(lines))
 
 
