@@ -19,7 +19,7 @@
 #   asperity and fluid pressure, A/A0, flux lines, area change: S0 figs 4-10),
 #   `band.csv`, `fields.xdmf`, and a summary row in `static.csv`;
 # * `dynamic/`: the frozen lip on a turning shaft under the sealed pressure
-#   (scene `lip-dynamic`), pressurised at the fastest speed and walked down:
+#   (scene `lip-dynamic`), pressurised at the slowest speed and walked up:
 #   `speed_*/maps.png` (the film fraction panel is S0 fig 11), `sweep.csv`;
 # * `cavitation.png`: cavitated area and its place, torque and the net oil
 #   flow against the shaft speed.
@@ -99,9 +99,9 @@ def static(out: Path, overrides: dict[str, Any]) -> dict[str, Any]:
 # The shaft drags the oil along the circumference over the resolved asperities;
 # behind each constriction, where the gap opens along the sliding, the film
 # cannot hold a pressure below the cavitation pressure and breaks up
-# ($\theta < 1$).  The pressure drop is brought in at the fastest speed and the
-# sweep walks down, each speed from the last (the cavitated zones move little
-# per step).  The lip is frozen in its dry state: at high speed read
+# ($\theta < 1$).  The pressure drop is brought in at the slowest speed, where
+# the film is unique, and the sweep walks up in log10 of the speed, each speed
+# from the last (a step that fails is halved).  The lip is frozen in its dry state: at high speed read
 # `fluid_load_fraction`, the share of the radial load the film carries, before
 # trusting a point.
 
@@ -110,7 +110,7 @@ def static(out: Path, overrides: dict[str, Any]) -> dict[str, Any]:
 def dynamic(out: Path, overrides: dict[str, Any], speeds: list[float]) -> list[dict[str, Any]]:
     """The speed sweep of ``lip-dynamic``; rows in ascending speed."""
     p = parameters("lip-dynamic", {**overrides, "film": {**overrides.get("film", {}),
-                                                          "speed": max(speeds)}})  # fmt: skip
+                                                          "speed": min(speeds)}})  # fmt: skip
     writer = SweepWriter(out / "dynamic", "sweep.csv")
     keys = ("speed", "cavitation_fraction", "cavitation_axial_offset",
             "cavitation_divergent_fraction", "counter_gradient_fraction", *KEYS,
@@ -166,7 +166,7 @@ def run(out: Path, overrides: dict[str, Any], speeds: list[float] = SPEEDS) -> d
     print0(f"lip sector demo ({COMM_WORLD.size} rank(s)): installing the seal, cutting the "
            "sector, bringing in the roughness, at rest ...")  # fmt: skip
     rest = static(out, overrides)
-    print0(f"  turning: {len(speeds)} speeds, pressurised at {max(speeds):g} m/s, walked down ...")
+    print0(f"  turning: {len(speeds)} speeds, pressurised at {min(speeds):g} m/s, walked up ...")
     rows = dynamic(out, overrides, speeds)
     plot(out, rows)
     print0(f"done in {time.perf_counter() - t0:.0f} s; wrote {out}/")

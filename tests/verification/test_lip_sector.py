@@ -291,30 +291,28 @@ def test_sliding_sector_reproduces_the_axisymmetric_lip(sliding, axisymmetric):
         assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-6)
 
 
-def test_speed_sweep_walks_down_to_the_same_films(sliding, mpi_tmp_path):
-    """The scene's speed sweep (``dolfinx-seal sweep lip-dynamic film.speed``) takes
-    another path to the same points as the fixture: equal sealed pressures at
-    1 mm/s, then 0.1 m/s, the oil pressure raised there in steps, then the speed
-    walked down to 1 mm/s.  Without cavitation the frozen film is unique, so the
-    two paths must give the same films to the solver's tolerance (the film rows
-    converge on their Newton step, ``FILM_ONLY_TOLERANCES``; measured at one rank:
-    leakage and torque equal to the last digit; 4 Newton steps from 0.1 m/s to
-    1 mm/s in 2 walk steps, the oil pressure raised in 5 steps).  Tolerance: 1e-7
-    on the leakage, 1e-9 on the torque (two ranks factorise in another order)."""
+def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
+    """The scene's speed sweep (``dolfinx-seal sweep lip-dynamic --over film.speed``:
+    pressurised at the slowest speed, walked up in log10 of the speed) gives the
+    fixture's films (pressurised at 1 mm/s, then 0.1 m/s in one solve): without
+    cavitation the frozen film is unique, so to the solver's tolerance (the film
+    converges on its step, ``FILM_ONLY_TOLERANCES``; measured at one rank: leakage
+    and torque equal to the last digit).  Tolerance: 1e-7 on the leakage, 1e-9 on
+    the torque (two ranks factorise in another order)."""
     from dolfinx_seal.scenes import lip_sector
 
     p = make_parameters("lip-dynamic", values={**CHECK, "film": {"speed": SPEEDS[1]}})
     seen = []
     rows = lip_sector.sweep(p, mpi_tmp_path, "film.speed", list(SPEEDS),
                             lambda v, r: seen.append(v))  # fmt: skip
-    assert seen == sorted(SPEEDS, reverse=True)
+    assert seen == sorted(SPEEDS)
     assert [r["speed"] for r in rows] == list(SPEEDS)
     assert not (mpi_tmp_path / "sweep_failures.csv").exists()
     for r, ref in zip(rows, sliding, strict=True):
         assert r["converged"]
         assert r["leakage_rate"] == pytest.approx(ref["leakage_rate"], rel=1e-7)
         assert r["friction_torque"] == pytest.approx(ref["friction_torque"], rel=1e-9)
-    assert rows[-1]["pressure_steps"] > 1  # the oil pressure was raised in steps
+    assert rows[-1]["continuation_steps"] >= 1
 
 
 @pytest.mark.parametrize(
@@ -421,26 +419,26 @@ FIG11_SPEEDS = (1e-4, 1e-3, 1e-2)
 
 @pytest.mark.slow
 def test_two_scale_cavitation_grows_with_speed_towards_the_oil_side(mpi_tmp_path):
-    """S0 fig 11 under a pressure drop: the scene's sweep (pressurised at 1e-2 m/s in
-    steps, walked down) converges at every speed, and
+    """S0 fig 11 under a pressure drop: the scene's sweep (pressurised at 1e-4 m/s,
+    walked up) converges at every speed, and
 
     * the cavitated area grows with the speed, and its axial centroid, on the air
       (low-pressure) side of the contact centre, moves towards the oil side
-      (measured walking down from 1 m/s: 0.308 / 0.548 / 0.613 of the band at
-      1e-4 / 1e-3 / 1e-2 m/s, centroid 128 / 105 / 94 um on the air side);
+      (measured: 0.308 / 0.548 / 0.613 of the band at 1e-4 / 1e-3 / 1e-2 m/s,
+      centroid 128 / 105 / 94 um on the air side);
     * at the slowest speed the cavitation sits where the gap opens along the
       sliding, the trailing side of the asperities (measured 0.67 of the
       cavitated area; a zone blind to the gap slope would give about 0.5);
     * the film at 1 mm/s is the same whether the pressure drop was set at 1 mm/s
-      or brought in at 1e-2 m/s and walked down: at these speeds the JFO film is
-      unique (measured: 1.7120e-13 m^3/s both ways, to 4 digits; a periodic band
-      can hold several films at high speed, docs/scenes/lip-sector.md).
-      Tolerance 1e-5 on leakage and torque: the film converges on its step
-      (nodal mass balance 1e-9..1e-7); at two ranks the static allowance 1e-4.
+      or at 1e-4 m/s and walked up: at these speeds the JFO film is unique
+      (measured: walked down from 1 m/s, leakage and torque within 1.0e-5 of the
+      direct film; a periodic band can hold several films at higher speed,
+      docs/scenes/lip-sector.md).  Tolerance 1e-4 on leakage and torque, 2e-3 on
+      the cavitation fraction (the walked-down film: 0.54995 against 0.54849).
     """
     from dolfinx_seal.scenes import lip_sector
 
-    p = make_parameters("lip-dynamic", values={**FIG11, "film": {"speed": FIG11_SPEEDS[-1]}})
+    p = make_parameters("lip-dynamic", values={**FIG11, "film": {"speed": FIG11_SPEEDS[0]}})
     rows = lip_sector.sweep(p, mpi_tmp_path, "film.speed", list(FIG11_SPEEDS), lambda v, r: None)
     one = MPI.COMM_WORLD.size == 1
     assert [r["speed"] for r in rows] == list(FIG11_SPEEDS)
@@ -458,7 +456,6 @@ def test_two_scale_cavitation_grows_with_speed_towards_the_oil_side(mpi_tmp_path
         direct = lip_sector.solve_point(lub, p1)
     finally:
         lub.destroy()
-    tol = 1e-5 if one else 1e-4
-    assert rows[1]["leakage_rate"] == pytest.approx(direct["leakage_rate"], rel=tol)
-    assert rows[1]["friction_torque"] == pytest.approx(direct["friction_torque"], rel=tol)
-    assert rows[1]["cavitation_fraction"] == pytest.approx(direct["cavitation_fraction"], abs=1e-3)
+    assert rows[1]["leakage_rate"] == pytest.approx(direct["leakage_rate"], rel=1e-4)
+    assert rows[1]["friction_torque"] == pytest.approx(direct["friction_torque"], rel=1e-4)
+    assert rows[1]["cavitation_fraction"] == pytest.approx(direct["cavitation_fraction"], abs=2e-3)
