@@ -61,12 +61,12 @@ def test_linear_slider_against_closed_form():
     p = 12 * op.viscosity * op.speed * L * (hi - h) * (h - ho) / ((hi**2 - ho**2) * h**2)
     for sol in (jfo_solution(gap, op), reynolds_condition_solution(gap, op)):
         assert sol.x_rupture is None and sol.x_reformation is None
-        assert sol.flux == pytest.approx(q, rel=1e-12)
+        assert sol.flux == pytest.approx(q, rel=1e-12, abs=0)
         assert sol.load == pytest.approx(w, rel=1e-10)
         np.testing.assert_allclose(sol.pressure(x), p, rtol=0, atol=1e-11 * p.max())
         np.testing.assert_array_equal(sol.theta(x), 1.0)
         # the peak is where U_m h = Q, i.e. h = 2 h_i h_o / (h_i + h_o)
-        assert float(gap(sol.x_p_max)) == pytest.approx(2 * hi * ho / (hi + ho), rel=1e-9)
+        assert float(gap(sol.x_p_max)) == pytest.approx(2 * hi * ho / (hi + ho), rel=1e-9, abs=0)
         assert sol.p_max == pytest.approx(p.max(), rel=1e-4)
 
 
@@ -87,7 +87,7 @@ def test_benchmark_jfo_against_hand_solution_and_flux_conservation():
     load = op.p_inlet * a / 2 + p5 * (a + b - xr) / 2 + (p5 + op.p_outlet) * c / 2
 
     sol = jfo_solution(gap, op)
-    assert sol.flux == pytest.approx(q, rel=1e-13)
+    assert sol.flux == pytest.approx(q, rel=1e-13, abs=0)
     assert sol.x_rupture == pytest.approx(a, abs=1e-15)
     assert sol.x_reformation == pytest.approx(xr, rel=1e-12)
     assert a < sol.x_reformation < a + b  # reformation inside the pocket
@@ -99,8 +99,8 @@ def test_benchmark_jfo_against_hand_solution_and_flux_conservation():
     q_up = _zone_flux(gap, op, 0.0, sol.x_rupture, op.p_inlet, 0.0)
     q_down = _zone_flux(gap, op, sol.x_reformation, L, 0.0, op.p_outlet)
     assert sol.fluxes[0] == sol.fluxes[1]
-    assert q_up == pytest.approx(sol.flux, rel=1e-12)
-    assert q_down == pytest.approx(sol.flux, rel=1e-12)
+    assert q_up == pytest.approx(sol.flux, rel=1e-12, abs=0)
+    assert q_down == pytest.approx(sol.flux, rel=1e-12, abs=0)
 
     # cavity: p = 0 and U_m h theta = Q; theta just past the rupture is Q / (U_m h1)
     xcav = np.linspace(sol.x_rupture, sol.x_reformation, 50)[1:-1]
@@ -129,10 +129,12 @@ def test_smooth_reformation_conserves_mass():
     sol = jfo_solution(gap, op)
     xc, xr, q = sol.x_rupture, sol.x_reformation, sol.flux
     assert X_IN * ELL < xc < xr < gap.length
-    assert op.speed * float(gap(xc)) == pytest.approx(q, rel=1e-10)
+    assert op.speed * float(gap(xc)) == pytest.approx(q, rel=1e-10, abs=0)
     assert float(sol.dpdx(xc - 1e-12)) == pytest.approx(0.0, abs=1e-6 * sol.p_max / ELL)
-    assert _zone_flux(gap, op, 0.0, xc, 0.0, 0.0) == pytest.approx(q, rel=1e-10)
-    assert _zone_flux(gap, op, xr, gap.length, 0.0, op.p_outlet) == pytest.approx(q, rel=1e-10)
+    assert _zone_flux(gap, op, 0.0, xc, 0.0, 0.0) == pytest.approx(q, rel=1e-10, abs=0)
+    assert _zone_flux(gap, op, xr, gap.length, 0.0, op.p_outlet) == pytest.approx(
+        q, rel=1e-10, abs=0
+    )
     # theta continuous at rupture (= 1), < 1 before the reformation front
     d = 1e-14  # [m]; |h'| d / h ~ 4e-11 here
     assert float(sol.theta(xc + d)) == pytest.approx(1.0, rel=1e-9)
@@ -140,7 +142,7 @@ def test_smooth_reformation_conserves_mass():
     hr = float(gap(xr))
     dp = float(sol.dpdx(xr + d))
     flux_plus = op.speed * hr - hr**3 / (12 * op.viscosity) * dp
-    assert flux_plus == pytest.approx(op.speed * hr * float(sol.theta(xr - d)), rel=1e-9)
+    assert flux_plus == pytest.approx(op.speed * hr * float(sol.theta(xr - d)), rel=1e-9, abs=0)
 
 
 # ------------------------------------------------- (c) JFO vs Reynolds
@@ -153,7 +155,7 @@ def test_parabola_to_outlet_jfo_equals_reynolds_equals_martin():
     rey = reynolds_condition_solution(gap, op)
     assert jfo.x_reformation is None and rey.x_reformation is None
     assert jfo.x_rupture == pytest.approx(rey.x_rupture, rel=1e-14)
-    assert jfo.flux == pytest.approx(rey.flux, rel=1e-14)
+    assert jfo.flux == pytest.approx(rey.flux, rel=1e-14, abs=0)
     assert jfo.load == pytest.approx(rey.load, rel=1e-14)
     x = np.linspace(0.0, gap.length, 501)
     np.testing.assert_allclose(jfo.pressure(x), rey.pressure(x), rtol=0, atol=1e-12 * jfo.p_max)
@@ -162,7 +164,7 @@ def test_parabola_to_outlet_jfo_equals_reynolds_equals_martin():
     m = martin_solution(X_IN)
     p_ref = 12.0 * op.viscosity * op.speed * ELL / H_MIN**2
     assert jfo.x_rupture == pytest.approx(X_IN * ELL + m.x_cavitation * ELL, rel=1e-10)
-    assert jfo.flux == pytest.approx(op.speed * H_MIN * m.flux, rel=1e-10)
+    assert jfo.flux == pytest.approx(op.speed * H_MIN * m.flux, rel=1e-10, abs=0)
     assert jfo.load == pytest.approx(p_ref * ELL * m.load, rel=1e-9)
     assert jfo.p_max == pytest.approx(p_ref * m.p_max, rel=1e-10)
 
@@ -177,7 +179,7 @@ def test_pocket_jfo_and_reynolds_differ(case):
     jfo = jfo_solution(gap, op)
     rey = reynolds_condition_solution(gap, op)
     assert jfo.x_rupture == rey.x_rupture == a
-    assert jfo.flux == pytest.approx(rey.flux, rel=1e-14)  # same inlet zone
+    assert jfo.flux == pytest.approx(rey.flux, rel=1e-14, abs=0)  # same inlet zone
     assert a < jfo.x_reformation < e
     assert rey.x_reformation == a  # zero-length cavity
     assert rey.fluxes[1] > rey.fluxes[0]  # Reynolds creates mass at the edge
@@ -194,7 +196,7 @@ def test_pocket_jfo_and_reynolds_differ(case):
         load = op.p_inlet * a / 2 + p_m * (e - a) / 2 + (p_m + op.p_outlet) * c / 2
         assert rey.p_max == pytest.approx(p_m, rel=1e-11)
         assert rey.load == pytest.approx(load, rel=1e-11)
-        assert rey.fluxes[1] == pytest.approx(op.speed * h1 - k1 * p_m / (e - a), rel=1e-11)
+        assert rey.fluxes[1] == pytest.approx(op.speed * h1 - k1 * p_m / (e - a), rel=1e-11, abs=0)
 
 
 # ------------------------------------------- (d) two independent methods

@@ -192,7 +192,7 @@ def test_headline_parameters_have_units_and_ranges():
     assert cyl["contact_elements"].allowed == "[4, 1000]"
     # h_contact is None by default (a / contact_elements): its range shows once it is set
     cyl_h = _by_name(paramdoc.scene_parameters("cylinder", overrides=["h_contact=1e-5"]))
-    assert cyl_h["h_contact"].range.hi == pytest.approx(a / 4, rel=1e-12)
+    assert cyl_h["h_contact"].range.hi == pytest.approx(a / 4, rel=1e-12, abs=0)
     assert "a_Hertz/4" in cyl_h["h_contact"].allowed
     lip = _by_name(paramdoc.scene_parameters("lip-install"))
     lp = scenes.make_parameters("lip-install").lip

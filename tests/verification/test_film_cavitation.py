@@ -41,7 +41,7 @@ def test_jfo_conserves_mass_across_the_reformation_front(case):
     assert q["flux_spread"] < 1e-9
     assert q["mass_balance_error"] < 1e-9
     # the flux is set by the inlet land (independent of the mesh here)
-    assert q["flux_mean"] == pytest.approx(jfo.flux, rel=1e-6)
+    assert q["flux_mean"] == pytest.approx(jfo.flux, rel=1e-6, abs=0)
     # starved pocket: theta = Q / (U_m h) between the fronts (upwind: theta_i
     # carries the cell (x_i, x_i+1), an O(dx h') shift, 1e-5 here)
     v = s.film.film_values()
@@ -66,7 +66,7 @@ def test_reynolds_condition_loses_mass_and_overestimates_the_load(case):
     assert q["load"] == pytest.approx(rey.load, rel=1e-4)
     assert q["p_max"] == pytest.approx(rey.p_max, rel=1e-4)
     jump = abs(rey.fluxes[-1] / rey.fluxes[0] - 1.0)
-    assert q["flux_spread"] == pytest.approx(jump, rel=0.05)  # the flux is not conserved
+    assert q["flux_spread"] == pytest.approx(jump, rel=0.05, abs=0)  # the flux is not conserved
     assert rey.load > 3.0 * jfo.load
     assert q["load"] > 3.0 * _jfo_load(gap, op)
 

@@ -101,7 +101,7 @@ def test_q_th_q0_sector_reproduces_the_axisymmetric_lip(sector, axisymmetric):
     assert r["radial_load"] == pytest.approx(ax["radial_load"], rel=5e-3)
     assert r["friction_torque"] == pytest.approx(ax["friction_torque"], rel=5e-3)
     assert r["load_fluid"] == pytest.approx(ax["load_fluid"], rel=5e-3)
-    assert r["leakage_rate"] == pytest.approx(ax["leakage_rate"], rel=0.15)
+    assert r["leakage_rate"] == pytest.approx(ax["leakage_rate"], rel=0.15, abs=0)
     # the sector's dry equilibrium is the installed state re-solved on the 3D mesh
     assert r["load_contact"] == pytest.approx(
         r["axisymmetric_radial_load"] * 2 * math.pi * CHECK_R, rel=5e-3
@@ -127,7 +127,7 @@ def test_film_conserves_mass(sector):
     for r in rows:
         assert r["mass_balance_error"] < 1e-4
         assert r["nodal_mass_balance_error"] < 1e-4
-        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-4)
+        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-4, abs=0)
 
 
 def test_coupled_film_conserves_mass():
@@ -287,8 +287,8 @@ def test_sliding_sector_reproduces_the_axisymmetric_lip(sliding, axisymmetric):
         assert r["friction_torque_asperity"] == pytest.approx(
             axisymmetric["friction_torque"], rel=5e-3
         )
-        assert r["leakage_rate"] == pytest.approx(axisymmetric["leakage_rate"], rel=0.2)
-        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-6)
+        assert r["leakage_rate"] == pytest.approx(axisymmetric["leakage_rate"], rel=0.2, abs=0)
+        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-6, abs=0)
 
 
 def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
@@ -310,7 +310,7 @@ def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
     assert not (mpi_tmp_path / "sweep_failures.csv").exists()
     for r, ref in zip(rows, sliding, strict=True):
         assert r["converged"]
-        assert r["leakage_rate"] == pytest.approx(ref["leakage_rate"], rel=1e-7)
+        assert r["leakage_rate"] == pytest.approx(ref["leakage_rate"], rel=1e-7, abs=0)
         assert r["friction_torque"] == pytest.approx(ref["friction_torque"], rel=1e-9)
     assert rows[-1]["continuation_steps"] >= 1
 
@@ -406,7 +406,7 @@ def test_two_scale_sector_slides_and_pumps_linearly_in_the_speed():
         k = v / TWO_SCALE_SPEEDS[0]
         assert r["nodal_mass_balance_error"] < (1e-7 if one else 1e-4)
         assert r["cavitation_fraction"] == pytest.approx(base["cavitation_fraction"], abs=1e-6)
-        assert r["pumping_rate"] == pytest.approx(k * base["pumping_rate"], rel=1e-5)
+        assert r["pumping_rate"] == pytest.approx(k * base["pumping_rate"], rel=1e-5, abs=0)
         assert r["friction_torque_couette"] == pytest.approx(
             k * base["friction_torque_couette"], rel=1e-6
         )
@@ -429,12 +429,16 @@ def test_two_scale_cavitation_grows_with_speed_towards_the_oil_side(mpi_tmp_path
     * at the slowest speed the cavitation sits where the gap opens along the
       sliding, the trailing side of the asperities (measured 0.67 of the
       cavitated area; a zone blind to the gap slope would give about 0.5);
-    * the film at 1 mm/s is the same whether the pressure drop was set at 1 mm/s
-      or at 1e-4 m/s and walked up: at these speeds the JFO film is unique
-      (measured: walked down from 1 m/s, leakage and torque within 1.0e-5 of the
-      direct film; a periodic band can hold several films at higher speed,
-      docs/scenes/lip-sector.md).  Tolerance 1e-4 on leakage and torque, 2e-3 on
-      the cavitation fraction (the walked-down film: 0.54995 against 0.54849).
+    * the film at 1 mm/s is nearly the same whether the pressure drop was set at
+      1 mm/s or at 1e-4 m/s and walked up.  A periodic band's JFO film is not
+      unique once closed cavitated streamlines appear (at 1 and 1e-2 m/s the
+      paths differ by 10 % and 0.13 % in torque, docs/scenes/lip-sector.md); at
+      1 mm/s the paths measured agree closely: leakage within 2.0e-4 walked up
+      from 1e-4 m/s and 1.0e-5 walked down from 1 m/s, torque within 1e-5,
+      cavitation fraction 0.54849 / 0.54995.  Tolerances: 1e-3 on the leakage
+      and 1e-4 on the torque (five and ten times the largest path differences),
+      2e-3 on the cavitation fraction; ``abs=0``: a flow of 1e-13 m^3/s is far
+      below pytest's default absolute tolerance (1e-12).
     """
     from dolfinx_seal.scenes import lip_sector
 
@@ -456,6 +460,6 @@ def test_two_scale_cavitation_grows_with_speed_towards_the_oil_side(mpi_tmp_path
         direct = lip_sector.solve_point(lub, p1)
     finally:
         lub.destroy()
-    assert rows[1]["leakage_rate"] == pytest.approx(direct["leakage_rate"], rel=1e-4)
+    assert rows[1]["leakage_rate"] == pytest.approx(direct["leakage_rate"], rel=1e-3, abs=0)
     assert rows[1]["friction_torque"] == pytest.approx(direct["friction_torque"], rel=1e-4)
     assert rows[1]["cavitation_fraction"] == pytest.approx(direct["cavitation_fraction"], abs=2e-3)
