@@ -282,13 +282,17 @@ def test_sliding_sector_reproduces_the_axisymmetric_lip(sliding, axisymmetric):
     leakage +15.3 % / +13.2 % at 1 mm/s / 0.1 m/s, against +3.8 % at rest: with
     transport the film row is integrated with the one-point rule throughout
     (film/surface.py, the FFCx 0.9 rule mixing), +11 % on these 10.5 um triangles
-    against the degree-6 flow term at rest.  Tolerance: 20 % (leakage), 0.5 % (torque)."""
+    against the degree-6 flow term at rest.  Tolerance: 20 % (leakage), 0.5 % (torque);
+    inflow against outflow: the mass balance allowance of
+    ``test_sliding_sector_converges_and_conserves_mass`` (1e-6 at one rank, 1e-4 at
+    two, where MUMPS's parallel factorisation left 1.7e-6)."""
+    balance = 1e-6 if MPI.COMM_WORLD.size == 1 else 1e-4
     for r in sliding:
         assert r["friction_torque_asperity"] == pytest.approx(
             axisymmetric["friction_torque"], rel=5e-3
         )
         assert r["leakage_rate"] == pytest.approx(axisymmetric["leakage_rate"], rel=0.2, abs=0)
-        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-6, abs=0)
+        assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=balance, abs=0)
 
 
 def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
