@@ -42,7 +42,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0
 from dolfinx_seal.output import SweepWriter
-from dolfinx_seal.params import parse_overrides
 from dolfinx_seal.scenes import lip_sector, make_parameters
 
 SPEEDS = [1e-4, 1e-3, 1e-2, 0.1, 1.0]  # shaft surface speed [m/s]
@@ -57,15 +56,11 @@ SPEEDS = [1e-4, 1e-3, 1e-2, 0.1, 1.0]  # shaft surface speed [m/s]
 
 
 # %%
-def parameters(scene: str, overrides: dict[str, Any]) -> Any:
-    """The scene's defaults on the coarse band, then ``overrides`` (nested mapping)."""
-    values = {"sector": {"elements_per_wavelength": 2.0}}
-    for key, val in overrides.items():
-        if isinstance(val, dict):
-            values[key] = {**values.get(key, {}), **val}
-        else:
-            values[key] = val
-    return make_parameters(scene, values=values)
+def parameters(scene: str, overrides: list[str], *fixed: str) -> Any:
+    """The scene's defaults on the coarse band, then ``overrides`` (``KEY=VALUE``
+    strings, as ``--set`` takes them), then the demo's ``fixed`` settings."""
+    coarse = {"sector": {"elements_per_wavelength": 2.0}}
+    return make_parameters(scene, values=coarse, overrides=[*overrides, *fixed])
 
 
 # %% [markdown]
@@ -81,7 +76,7 @@ KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction
         "fluid_load_fraction", "h_min", "max_fluid_pressure", "nodal_mass_balance_error")  # fmt: skip
 
 
-def static(out: Path, overrides: dict[str, Any]) -> dict[str, Any]:
+def static(out: Path, overrides: list[str]) -> dict[str, Any]:
     """The sector at rest; its results (and ``static.csv``, the maps)."""
     p = parameters("lip-static", overrides)
     t0 = time.perf_counter()
@@ -107,10 +102,9 @@ def static(out: Path, overrides: dict[str, Any]) -> dict[str, Any]:
 
 
 # %%
-def dynamic(out: Path, overrides: dict[str, Any], speeds: list[float]) -> list[dict[str, Any]]:
+def dynamic(out: Path, overrides: list[str], speeds: list[float]) -> list[dict[str, Any]]:
     """The speed sweep of ``lip-dynamic``; rows in ascending speed."""
-    p = parameters("lip-dynamic", {**overrides, "film": {**overrides.get("film", {}),
-                                                          "speed": min(speeds)}})  # fmt: skip
+    p = parameters("lip-dynamic", overrides, f"film.speed={min(speeds)!r}")
     writer = SweepWriter(out / "dynamic", "sweep.csv")
     keys = ("speed", "cavitation_fraction", "cavitation_axial_offset",
             "cavitation_divergent_fraction", "counter_gradient_fraction", *KEYS,
@@ -160,7 +154,7 @@ def plot(out: Path, rows: list[dict[str, Any]]) -> None:
 
 
 # %%
-def run(out: Path, overrides: dict[str, Any], speeds: list[float] = SPEEDS) -> dict[str, Any]:
+def run(out: Path, overrides: list[str], speeds: list[float] = SPEEDS) -> dict[str, Any]:
     """The sector at rest, then the speed sweep; the rows."""
     t0 = time.perf_counter()
     print0(f"lip sector demo ({COMM_WORLD.size} rank(s)): installing the seal, cutting the "
@@ -183,7 +177,7 @@ def main(argv: list[str] | None = None) -> int:
     if COMM_WORLD.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     COMM_WORLD.barrier()
-    run(out, parse_overrides(a.set), a.speeds)
+    run(out, a.set, a.speeds)
     return 0
 
 

@@ -1074,35 +1074,37 @@ def pressurise_sliding(lub: SectorLip, params: LipStaticParameters, speed: float
     set_sealed_pressures(lub, params.oil_pressure, params.air_pressure)
     film.set_speed(v0)
     its = solve_film(lub, where=f"{name} at {v0:g} m/s (frozen lip)")
-    steps = 0
-    if speed != v0:
-        res = speed_walker(lub).walk(v0, speed)
-        its += res.newton_iterations
-        steps = res.steps
-        if not res.converged:
-            raise SolverError(
-                f"the speed walk from {v0:g} m/s: {res.error}",
-                where=f"{name} on the way to {speed:g} m/s (frozen lip)",
-                history=res.last_error.history if res.last_error else None,
-                partial={"speed": res.reached},
-            )  # fmt: skip
-    return {"newton_iterations": its, "pressure_steps": 1, "continuation_steps": steps,
+    walk = solve_speed(lub, set_parameter(params, "film.speed", speed))
+    its += walk["newton_iterations"]
+    return {"newton_iterations": its, "pressure_steps": 1,
+            "continuation_steps": walk["continuation_steps"],
             "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
 
 def solve_speed(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
-    """The frozen film at ``film.speed`` from the last solved state (:func:`solve_film`);
-    nothing at zero speed or at the speed already solved."""
+    """The frozen film walked from the last solved state to ``film.speed``
+    (:func:`speed_walker`); nothing at zero speed or at the speed already solved.
+
+    Raises:
+        SolverError: naming the speed reached (``partial``).
+    """
     film = lub.problem.film
     target = params.film.speed
-    if not film.has_couette or float(film.speed.value) == target:
+    v0 = float(film.speed.value)
+    if not film.has_couette or v0 == target:
         return {"newton_iterations": 0, "continuation_steps": 0}
     if lub.film_only is None:
         raise ParameterError("feedback = true: the coupled sliding sector is not built yet")
     t0 = time.perf_counter()
-    film.set_speed(target)
-    its = solve_film(lub, where=f"{lub.problem.name} at {target:g} m/s (frozen lip)")
-    return {"newton_iterations": its, "continuation_steps": 1,
+    res = speed_walker(lub).walk(v0, target)
+    if not res.converged:
+        raise SolverError(
+            f"the speed walk from {v0:g} m/s: {res.error}",
+            where=f"{lub.problem.name} on the way to {target:g} m/s (frozen lip)",
+            history=res.last_error.history if res.last_error else None,
+            partial={"speed": res.reached},
+        )  # fmt: skip
+    return {"newton_iterations": res.newton_iterations, "continuation_steps": res.steps,
             "speed_time_s": time.perf_counter() - t0}  # fmt: skip
 
 
