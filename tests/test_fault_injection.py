@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import csv
 import json
+import logging
 import math
 import re
 
@@ -236,3 +237,63 @@ def test_a_sweep_that_cannot_go_on_hands_back_its_finished_points(mpi_tmp_path, 
     assert summary["points_finished"] == 2
     assert "third point" in summary["failed_points"][0]["error"]
     assert "0.2 m/s" in summary["failed_points"][0]["where"]
+
+
+def test_a_sweep_whose_first_start_fails_starts_from_its_other_end(inject, mpi_tmp_path):
+    """The walk 0.4 -> 0.1 -> 0.05 m/s with every solve above 0.15 m/s failing: the
+    start at 0.4 m/s fails along the whole fallback chain, so the sweep starts at
+    its other end (0.05 m/s), walks back, converges at 0.05 and 0.1 m/s and records
+    0.4 m/s as not reached, with both the continuation's and the start's error."""
+    fault = inject("nan", above=0.15)
+    p = scenes.make_parameters("cylinder", values={**RIGID, "sweep_order": "given"})
+    out = mpi_tmp_path / "reverse"
+    handed: list[float] = []
+    rows = scenes.get("cylinder").sweep(p, out, "film.speed", [0.4, 0.1, 0.05],
+                                        lambda v, r: handed.append(v))  # fmt: skip
+    assert fault.fired > 0
+    assert handed == [0.05, 0.1]
+    assert len(rows) == 2 and all(math.isfinite(r["mu"]) for r in rows)
+    failures = read_csv(out / "sweep_failures.csv")
+    assert [float(f["speed"]) for f in failures] == [0.4]
+    why = failures[0]["error"]
+    assert "from the other end" in why and "the start at 0.4 m/s failed" in why, why
+    assert re.search(REASON["nan"], why), why
+    # the two ends failing: one error naming both starts, nothing converged
+    fault.above = 0.0
+    with pytest.raises(SolverError, match="at both ends of the sweep") as info:
+        scenes.get("cylinder").sweep(p, mpi_tmp_path / "none", "film.speed", [0.4, 0.05],
+                                     lambda v, r: None)  # fmt: skip
+    assert "0.4 m/s" in str(info.value) and "0.05 m/s" in str(info.value)
+
+
+def test_a_target_the_newton_limit_stalls_is_walked_again_without_it(monkeypatch, mpi_tmp_path):
+    """``stepping.max_newton`` cuts a continuation step that needs more Newton steps;
+    a target the cut walk gives up is walked once more with the solver's own limit.
+    Here every solve is held back until its fourth Newton step, so with a limit of 3
+    no continuation step can converge: the point converges on the second walk."""
+    real = NonlinearSolver._converged
+
+    def slow(self, snes, it, norms):
+        reason = real(self, snes, it, norms)
+        return PETSc.SNES.ConvergedReason.ITERATING if reason > 0 and it < 4 else reason
+
+    monkeypatch.setattr(NonlinearSolver, "_converged", slow)
+    records: list[str] = []
+    handler = logging.Handler()
+    handler.emit = lambda r: records.append(r.getMessage())
+    get_logger().addHandler(handler)
+    old_level = get_logger().level
+    get_logger().setLevel(logging.INFO)
+    try:
+        p = scenes.make_parameters("cylinder", values={**RIGID, "stepping": {
+            **RIGID["stepping"], "max_newton": 3}})  # fmt: skip
+        rows = scenes.get("cylinder").sweep(p, mpi_tmp_path, "film.speed", [0.05, 0.1],
+                                            lambda v, r: None)  # fmt: skip
+    finally:
+        get_logger().removeHandler(handler)
+        get_logger().setLevel(old_level)
+    assert [r["converged"] for r in rows] == [True, True]
+    assert rows[1]["newton_iterations"] >= 4  # more than the limit: the second walk's
+    stalled = [m for m in records if "not reached with 3 Newton steps a step" in m]
+    assert len(stalled) == 1 and stalled[0].startswith("speed 0.1 m/s"), records
+    assert not (mpi_tmp_path / "sweep_failures.csv").exists()

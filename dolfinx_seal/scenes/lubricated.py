@@ -497,6 +497,9 @@ class _Walk:
         self.index = -1  # position in ``ordered`` of the last point handed on
         self.pending: list[int] = []  # positions in ``ordered`` still to walk, in order
         self.csv_rows = 0  # rows in sweep.csv (before this run, and written since)
+        self.first_error = ""  # why the start at the walk's first target failed, if it did
+        self.first_target = math.nan  # that target [m/s]
+        self.reverse = False  # walking the targets from the last to the first
 
     def build(self, speed: float) -> SolidContactProblem:
         p0 = set_parameter(self.p, "film.speed", speed)
@@ -524,7 +527,7 @@ class _Walk:
         self.index = self.pending.pop(0)
         self.csv_rows += 1
         meta = {"serial": self.csv_rows, "rows": self.csv_rows, "index": self.index,
-                "speed": v, "failed": self.failed}  # fmt: skip
+                "speed": v, "failed": self.failed, "reverse": self.reverse}  # fmt: skip
         checkpoint.save(self.out, self.unknowns, meta)
         self.rows.append(r)
         self.done.append(v)
@@ -533,11 +536,60 @@ class _Walk:
                                set_parameter(self.p, "film.speed", v))  # fmt: skip
 
     def failure(self, rec: Any) -> None:
-        self.failed.append({"speed": rec.speed, "error": rec.error})
+        self.failed.append({"speed": rec.speed, "error": self._why(rec)})
+
+    def _why(self, rec: Any) -> str:
+        """A target's failure, with the failed start's error for the walk's first
+        target when the walk came back to it from the other end."""
+        if self.first_error and rec.speed == self.first_target:
+            return f"{rec.error} (from the other end; before that, {self.first_error})"
+        return str(rec.error)
 
     def from_start(self, todo: list[int]) -> None:
         """The scene's start at the first target of ``todo`` (positions in the walk),
-        then the others."""
+        then the others.
+
+        If that start fails along the scene's whole fallback chain and there are
+        other targets, the walk starts again from its other end (the last target of
+        ``todo``) and walks the targets in reverse order, the first one last: a
+        sweep that cannot begin at one end of its range (a very soft or a very
+        smooth contact at boundary-lubrication speeds) still delivers every point
+        the other end reaches, and the first target is recorded as not reached,
+        with the start's error, unless the reverse walk gets there.  Both starts
+        failing raises :class:`SolverError` naming both."""
+        try:
+            self._start_at(todo)
+            self.go_on()
+            return
+        except SolverError as e:
+            if len(todo) < 2 or self.rows:  # the start converged: a failure of the walk
+                raise
+            first = e
+        v0, v1 = self.ordered[todo[0]], self.ordered[todo[-1]]
+        get_logger().warning(
+            "%s sweep: the start at %g m/s failed (%s); starting from the other end, %g m/s, "
+            "and walking back", self.scene.name, v0, first.what, v1,
+        )  # fmt: skip
+        self.close()
+        self.prob = None
+        self.first_error = f"the start at {v0:g} m/s failed: {first}"
+        self.first_target = v0
+        self.reverse = True
+        try:
+            self._start_at(todo[::-1])
+        except SolverError as e:
+            if self.rows:
+                raise
+            raise SolverError(
+                f"the start failed at both ends of the sweep: at {v0:g} m/s: {first}; "
+                f"at {v1:g} m/s: {e}",
+                where=f"{self.scene.name} sweep start",
+                history=first.history,
+            ) from e
+        self.go_on()
+
+    def _start_at(self, todo: list[int]) -> None:
+        """The scene's start at the first target of ``todo``, its point handed on."""
         v0 = self.ordered[todo[0]]
         prob = self.build(v0)
         p0 = set_parameter(self.p, "film.speed", v0)
@@ -551,7 +603,6 @@ class _Walk:
                   wall_time_s=time.perf_counter() - t0, converged=True)  # fmt: skip
         self.pending = list(todo)
         self.point(v0, r0)
-        self.go_on()
 
     @property
     def scales(self) -> Scales:
@@ -582,8 +633,13 @@ class _Walk:
         prob.film.set_speed(self.ordered[idx])
         self.failed = list(meta.get("failed", []))
         self.csv_rows = resume.rows
-        self.index = idx - 1 if resume.rows < rows else idx
-        self.pending = list(range(self.index + 1, len(self.ordered)))
+        self.reverse = bool(meta.get("reverse", False))
+        if self.reverse:  # the walk went from the last target back to the first
+            self.index = idx + 1 if resume.rows < rows else idx
+            self.pending = list(range(self.index - 1, -1, -1))
+        else:
+            self.index = idx - 1 if resume.rows < rows else idx
+            self.pending = list(range(self.index + 1, len(self.ordered)))
         get_logger().info("resuming from the checkpoint of %g m/s (point %d of %d)",
                           self.ordered[idx], idx + 1, len(self.ordered))  # fmt: skip
         return True
@@ -594,7 +650,7 @@ class _Walk:
         targets = [self.ordered[i] for i in self.pending]
         recs = speed_sweep(self.prob, targets, self.point, self.results, self.p.stepping,
                            on_failure=self.failure)  # fmt: skip
-        self.failed += [{"speed": r.speed, "error": r.error} for r in recs
+        self.failed += [{"speed": r.speed, "error": self._why(r)} for r in recs
                         if not r.converged and r.error.startswith("not attempted")]  # fmt: skip
 
     def close(self) -> None:
