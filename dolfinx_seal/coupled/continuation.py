@@ -159,8 +159,11 @@ def _walk(
     records: list[SweepRecord] = []
     rec = SweepRecord(speed=0.0, converged=False)
 
+    step_options = [st]  # the Newton limit is lifted for a target's second walk
+
     def solve(speed: float) -> int:
-        return _coupled_step(prob, walker.history, speed, st, presolver, rec).newton_iterations
+        return _coupled_step(prob, walker.history, speed, step_options[0], presolver,
+                             rec).newton_iterations  # fmt: skip
 
     walker = AdaptiveWalk(
         st.control(), film.set_speed, solve, prob.state, prob.restore,
@@ -184,10 +187,24 @@ def _walk(
         rec = SweepRecord(speed=float(target), converged=False)
         t0 = time.perf_counter()
         res = walker.walk(float(film.speed.value), float(target))
+        its, steps, accepted = res.newton_iterations, res.steps, list(res.accepted)
+        if not res.converged and st.max_newton:
+            # the Newton limit buys speed on easy steps; a target it stalls is walked
+            # once more from where the walk stopped, with the solver's own limit
+            log.info("speed %.4g m/s not reached with %d Newton steps a step (%s); again "
+                     "from %.4g m/s with the solver's own limit", target, st.max_newton,
+                     res.last_error.what if res.last_error else "", float(film.speed.value))  # fmt: skip
+            step_options[0] = dataclasses.replace(st, max_newton=0)
+            try:
+                res = walker.walk(float(film.speed.value), float(target))
+            finally:
+                step_options[0] = st
+            its, steps = its + res.newton_iterations, steps + res.steps
+            accepted += list(res.accepted)
         rec.converged = res.converged
-        rec.newton_iterations = res.newton_iterations
-        rec.steps = res.steps
-        rec.intermediate = [a.value for a in res.accepted if a.value != float(target)]
+        rec.newton_iterations = its
+        rec.steps = steps
+        rec.intermediate = [a.value for a in accepted if a.value != float(target)]
         if not res.converged and res.last_error is not None:
             rec.error = f"{res.last_error.what} ({res.last_error.where})"
         rec.wall_time_s = time.perf_counter() - t0
