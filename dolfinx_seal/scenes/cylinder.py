@@ -42,6 +42,7 @@ from dolfinx_seal.coupled.results import write_film_profile
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.surface import FilmParams
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
+from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import (
     check_choice,
     check_int_range,
@@ -230,6 +231,13 @@ def moes_load(p: CylinderParameters, speed: float) -> float:
     return (p.load / e_r) / math.sqrt(u)
 
 
+def moes_speed(p: CylinderParameters, moes: float) -> float:
+    """The sliding speed [m/s] at which Moes' load :func:`moes_load` is ``moes``."""
+    e_r = 2.0 * p.material.E_star * p.radius
+    u_mean = (p.load / e_r / moes) ** 2  # M = W U^(-1/2)
+    return 2.0 * u_mean * e_r / p.film.viscosity
+
+
 def start_speed(p: CylinderParameters) -> float:
     """Where the coupled Newton starts [m/s].
 
@@ -241,9 +249,7 @@ def start_speed(p: CylinderParameters) -> float:
     :data:`START_MOES` (never below ``film.speed``), and comes down.
     """
     if p.contact.model == "none":
-        e_r = 2.0 * p.material.E_star * p.radius
-        u_start = (p.load / e_r / START_MOES) ** 2  # M = W U^(-1/2)
-        return max(abs(p.film.speed), 2.0 * u_start * e_r / p.film.viscosity)
+        return max(abs(p.film.speed), moes_speed(p, START_MOES))
     s = scales(p)
     return boundary_start_speed(
         p.roughness.h_rms, p.film.viscosity, s.length, math.pi / 4.0 * s.pressure
@@ -333,33 +339,58 @@ def full_film_start(prob: SolidContactProblem, p: CylinderParameters, s: Scales)
     the Hertz pressure.  Where that pressure puts the contact law near complete
     contact (E = 1 MPa: separation 0.002 h_rms at p_H, local decay length 3 nm;
     h_rms = 0.1 um: 2e-5 h_rms) its first Newton step diverged (NaN: inverted
-    elements after a step closing the 2 nm gap to -0.57 um).  Here the cylinder is
-    deformed under the Hertz pressure with the flat :data:`START_FILM` ``h_rms`` below
-    it, at :func:`film_start_speed`, where the asperities carry little; the film and
-    the flat's position are solved on that frozen shape, then the coupled problem,
+    elements after a step closing the 2 nm gap to -0.57 um).  Here:
+
+    1. the cylinder is deformed under the Hertz pressure with the flat
+       :data:`START_FILM` ``h_rms`` below it, at :func:`film_start_speed`, where the
+       asperities carry little; the film and the flat's position are solved on
+       that frozen shape, then the coupled problem;
+    2. if that fails and the rigid-isoviscous regime lies faster, the smooth
+       cylinder's start instead: the undeformed cylinder at the Martin film
+       thickness at Moes M = :data:`START_MOES` (:func:`moes_speed`), where the film
+       is far thicker than the roughness.  A fine finish needs it: with h_rms =
+       0.1 um the film of 4 h_rms sits at Moes M 13 (4.2 mm/s), in the
+       elastohydrodynamic regime, and the coupled solve from the Hertz shape
+       diverged (NaN after 12 Newton steps);
+
     then speed continuation to ``film.speed`` (down or up).  Only for a rough,
     deformable cylinder with a sliding speed."""
     target = p.film.speed
     if not (prob.bulk and prob.law is not None) or target == 0.0:
         raise ParameterError("the full-film start needs a rough, deformable, sliding cylinder")
+    initial = prob.state()
     v0 = math.copysign(film_start_speed(p), target)
     prob.film.set_speed(v0)
-    info = start_coupled(
-        prob, v0, v0, p.stepping, "cylinder full-film start",
-        pressure_guess=s.hertz_pressure(prob.X), peak_gap=START_FILM * p.roughness.h_rms,
-        film_guess=True,
-    )  # fmt: skip
+    try:
+        info = start_coupled(
+            prob, v0, v0, p.stepping, "cylinder full-film start",
+            pressure_guess=s.hertz_pressure(prob.X), peak_gap=START_FILM * p.roughness.h_rms,
+            film_guess=True,
+        )  # fmt: skip
+        how = f"full-film start at {v0:.3g} m/s (film {START_FILM:g} h_rms)"
+    except SolverError as e:
+        v1 = moes_speed(p, START_MOES)
+        if v1 <= abs(v0):
+            raise
+        get_logger().info("cylinder full-film start at %.3g m/s failed (%s); the rigid-"
+                          "isoviscous start at %.3g m/s (M = %g)", v0, e.what, v1, START_MOES)  # fmt: skip
+        prob.restore(initial)
+        prob.set_fraction(1.0)
+        v0 = math.copysign(v1, target)
+        pre_its = _martin_start(prob, p, v0)
+        info = start_coupled(prob, v0, v0, p.stepping, "cylinder rigid-isoviscous start")
+        info["newton_iterations"] += pre_its + e.history.newton_iterations
+        how = (f"rigid-isoviscous start at {v0:.3g} m/s (Moes M = {START_MOES:g}; the film "
+               f"start at {film_start_speed(p):.3g} m/s failed)")  # fmt: skip
     if v0 != target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, p.stepping)
         if not recs[-1].converged:
             raise SolverError(
-                f"the full-film start at {v0:.3g} m/s did not reach film.speed = {target:g} "
-                f"m/s: {recs[-1].error}",
+                f"the {how} did not reach film.speed = {target:g} m/s: {recs[-1].error}",
                 where="cylinder full-film start", partial={"speed": float(prob.film.speed.value)},
             )  # fmt: skip
         info["newton_iterations"] += recs[-1].newton_iterations
-    info["strategy"] = (f"full-film start at {v0:.3g} m/s (film {START_FILM:g} h_rms), speed "
-                        f"continuation to {target:.3g} m/s")  # fmt: skip
+    info["strategy"] = f"{how}, speed continuation to {target:.3g} m/s"
     return info
 
 

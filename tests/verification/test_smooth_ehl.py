@@ -73,3 +73,28 @@ def test_the_failing_start_of_the_issue_converges(model, mpi_tmp_path, reference
     assert r["converged"] and "full-film start" in r["strategy"]
     for k in KEYS:
         assert r[k] == pytest.approx(getattr(reference[0.02], k), rel=RTOL), k
+
+
+def test_a_fine_finish_starts_rigid_isoviscous_and_meets_the_smooth_reference(reference):
+    """A rough cylinder with h_rms 0.1 um: its boundary start stopped (DIVERGED_MAX_IT
+    after 300 Newton steps), and the full-film start at 4 h_rms (4.2 mm/s, Moes M 13)
+    diverged from the Hertz shape; the full-film start falls back to the smooth
+    cylinder's rigid-isoviscous start (M = 1, 0.75 m/s) and walks down.  At 0.1 m/s
+    the film is about 40 h_rms, where the asperities carry nothing and the rough
+    contact is the smooth one: the half-space reference to the smooth test's 1 %."""
+    from dolfinx_seal.coupled.results import lubricated_results
+    from dolfinx_seal.scenes import cylinder
+
+    p = make_parameters("cylinder", overrides=["roughness.h_rms=1e-7", "film.speed=0.1"])
+    prob, _ = cylinder.CYLINDER.build_lubricated(p)
+    try:
+        s = cylinder.scales(p)
+        info = cylinder.full_film_start(prob, p, s)
+        r = lubricated_results(prob, symmetry_factor=s.symmetry_factor,
+                               nominal_area=s.nominal_area)  # fmt: skip
+    finally:
+        prob.destroy()
+    assert "rigid-isoviscous start at 0.75 m/s" in info["strategy"], info["strategy"]
+    assert r["fluid_load_fraction"] > 1.0 - 1e-6
+    for k in KEYS:
+        assert r[k] == pytest.approx(getattr(reference[0.1], k), rel=RTOL), k
