@@ -536,11 +536,15 @@ def markdown(table: Table, cases: Sequence[Case], rows: Sequence[Mapping[str, An
                   "| value | status | Newton | load res. | mass res. | compl. res. | mu | h_min [m] "
                   "| time [s] | error (or the fallback start that converged) |",
                   "|---" * 10 + "|"]  # fmt: skip
+        before = None
         for r in pts:
+            why = r.get("error", "") or r.get("strategy", "")
+            shown = "(as above)" if why and why == before else why  # a stopped case's one error
+            before = why
             lines.append("| " + " | ".join(_cell(r.get(k)) for k in (
                 "value", "status", "newton_iterations", "load_balance_error",
                 "mass_balance_error", "complementarity_error", "mu", "h_min", "wall_time_s",
-            )) + f" | {r.get('error', '') or r.get('strategy', '')} |")  # fmt: skip
+            )) + f" | {shown} |")  # fmt: skip
     return "\n".join(lines) + "\n"
 
 
