@@ -29,6 +29,11 @@ from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_nonnegative, check_positive, check_range
 from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
 
+#: The first step [decades] of a target's second walk without the Newton limit
+#: (:func:`speed_sweep`).  The first second walk of the S1 ball on a/10 began with the
+#: full step to its target, from 0.019 to 0.01 m/s: 60 Newton steps, 4.5 minutes, failed.
+RETRY_DECADES = 0.02
+
 
 @dataclass(frozen=True)
 class SpeedStepping:
@@ -195,6 +200,9 @@ def _walk(
                      "from %.4g m/s with the solver's own limit", target, st.max_newton,
                      res.last_error.what if res.last_error else "", float(film.speed.value))  # fmt: skip
             step_options[0] = dataclasses.replace(st, max_newton=0)
+            # from a short step: the walk has just shown that long ones do not converge,
+            # and each failure now costs the solver's full limit
+            walker.step = max(RETRY_DECADES, 2.0 * st.min_decades)
             try:
                 res = walker.walk(float(film.speed.value), float(target))
             finally:
