@@ -216,6 +216,9 @@ CASES: dict[str, Case] = {
                                ("film.speed=2e3",)),
     "rotary-speed-negative": Case("set", ("film.speed = -1.0 m/s", ">= 0"), "lip",
                                   ("film.speed=-1",)),
+    # ten times the S1 load: a = 0.39 R, and the default film cap of 3 a would leave the ball
+    "ball-film-cap-beyond-the-ball": Case("set", ("film_extent = 3.0 Hertz radii", "0.9 R",
+                                                  "[1.5, 2.287"), "ball", ("load=13",)),
     "ball-film-at-rest": Case("set", ("film.speed = 0 m/s", "film.speed > 0"), "ball",
                               ("film.speed=0",)),
     # ------------------------------------------------------------------ sweeps (CLI)

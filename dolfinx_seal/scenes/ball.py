@@ -113,7 +113,8 @@ class BallParameters:
             ``film.upstream`` / ``downstream`` are not used (line contacts only).
         film_extent: Radius of the lubricated cap in Hertz radii [-] (S1 uses
             the window [-1.5 a, 1.5 a]^2 for fig 18-29 and [-4 a, 1.5 a] x [-3 a, 3 a]
-            for its appendix D).
+            for its appendix D); at most 0.9 R / a_Hertz, the mesh's contact cap
+            (2.29 at ten times the default load).
         sweep_order: Order of a speed sweep: ``down`` (default: the sweep starts in
             full film, where the hydrodynamic start is robust), ``up``, ``up-down``
             or ``given``.
@@ -161,7 +162,6 @@ class BallParameters:
         )
         check_int_range("mesh_order", self.mesh_order, 1, 2)
         check_range("mesh_growth", self.mesh_growth, 0.0, 2.0, lo_open=True)
-        check_range("film_extent", self.film_extent, 1.5, 4.5)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
         check_range("max_start_moes", self.max_start_moes, 10.0, 1e5)
         if not self.lubricated and self.contact.model == "none":
@@ -180,6 +180,11 @@ class BallParameters:
                 f"radius = {self.radius!r} m and material.E* = {self.material.E_star:.4g} Pa",
                 "load",
             )
+        # the film cap must fit the mesh's contact cap, at most 0.9 R across (the default
+        # 3 Hertz radii does not at ten times the S1 load: a = 0.39 R)
+        hi = min(4.5, 0.9 * self.radius / a)
+        check_range("film_extent", self.film_extent, 1.5, hi,
+                    unit=f"Hertz radii (at most 0.9 R / a_Hertz = {0.9 * self.radius / a:.4g})")  # fmt: skip
 
     @property
     def element_size(self) -> float:
