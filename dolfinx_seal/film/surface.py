@@ -330,7 +330,7 @@ class SurfaceFilm:
             elif self.has_theta:
                 upwinded = self.g * self.surface_grad(self.theta_fn)
             if upwinded is not None:
-                h_e = self._element_size(mesh)
+                h_e = self._element_size(mesh, ctx.facet_tags.find(ctx.contact_tag))
                 Um_abs = 0.5 * abs(self.speed)
                 R += (
                     h_e
@@ -564,9 +564,41 @@ class SurfaceFilm:
         )  # fmt: skip
 
     @staticmethod
-    def _element_size(mesh: dolfinx.mesh.Mesh) -> Any:
-        fa = ufl.FacetArea(mesh)
-        return fa if mesh.topology.dim == 2 else ufl.sqrt(2.0 * fa)
+    def _element_size(mesh: dolfinx.mesh.Mesh, facets: np.ndarray, *,
+                      from_vertices: bool = False) -> Any:  # fmt: skip
+        """The size [m] of the film's elements (facets of ``mesh``): the facet's length
+        in 2D, ``sqrt(2 area)`` in 3D.  On an affine mesh UFL's ``FacetArea``; on a
+        curved one (``mesh_order = 2``, which FFCx 0.9 cannot integrate ``FacetArea``
+        on: "Not handled: FacetArea") the same of the straight facet through its
+        vertices, held by a cell function on each facet's one cell
+        (``from_vertices`` forces that way, for tests)."""
+        tdim = mesh.topology.dim
+        if mesh.geometry.cmap.degree == 1 and not from_vertices:
+            fa = ufl.FacetArea(mesh)
+            return fa if tdim == 2 else ufl.sqrt(2.0 * fa)
+        fdim = tdim - 1
+        mesh.topology.create_connectivity(fdim, tdim)
+        mesh.topology.create_connectivity(fdim, 0)
+        f2c = mesh.topology.connectivity(fdim, tdim)
+        h = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("DG", 0)))
+        if len(facets) == 0:  # a rank without film facets (entities_to_geometry: SIGFPE)
+            h.x.scatter_forward()
+            return h
+        x = mesh.geometry.x
+        vertex_nodes = dolfinx.mesh.entities_to_geometry(mesh, fdim, facets, False)
+        # the vertices are the first nodes of a Lagrange facet, in either degree
+        corners = x[vertex_nodes[:, : fdim + 1]]
+        if tdim == 2:
+            size = np.linalg.norm(corners[:, 1] - corners[:, 0], axis=1)
+        else:
+            area = 0.5 * np.linalg.norm(
+                np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+            )
+            size = np.sqrt(2.0 * area)
+        for f, v in zip(facets, size, strict=True):
+            h.x.array[f2c.links(f)[0]] = v
+        h.x.scatter_forward()
+        return h
 
     def _fixed_dofs(self, ctx: SurfaceState) -> tuple[np.ndarray, np.ndarray]:
         """Dofs (owned and ghost) off the lubricated surface, and on its edges.
