@@ -70,6 +70,26 @@ def test_failure_raises_typed_error_with_history():
     solver.destroy()
 
 
+def test_a_converged_state_the_owner_refuses_is_a_failed_solve():
+    """``acceptance`` runs after convergence; a reason makes the solve a failure
+    that names it (the state is kept for the caller to restore from)."""
+    solver, u, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8)
+    calls = []
+
+    def refuse():
+        calls.append(float(MPI.COMM_WORLD.allreduce(np.max(np.abs(u.x.array)), MPI.MAX)))
+        return "the state is outside the law's domain (injected)"
+
+    solver.acceptance = refuse
+    with pytest.raises(SolverError, match=r"CONVERGED_FNORM.*but the state is outside") as info:
+        solver.solve(where="unit test")
+    assert info.value.history.reason_name == "CONVERGED_TO_INADMISSIBLE_STATE"
+    assert calls and calls[0] == pytest.approx(0.25, rel=1e-2)  # called on the solution
+    solver.acceptance = lambda: None
+    assert solver.solve().reason > 0
+    solver.destroy()
+
+
 def test_command_line_options_override_defaults():
     PETSc.Options()["cliprefix_snes_max_it"] = 1
     try:

@@ -15,6 +15,9 @@
   raises :class:`~dolfinx_seal.errors.SolverError` carrying the iteration history;
 * its own complementarity check after a VI solve, since a VI solver may report
   convergence on a zero step;
+* an optional acceptance check of a converged state (``acceptance``: the owner's
+  reason why the state is not a solution, e.g. outside a constitutive law's
+  domain), raised as a failed solve;
 * an assembly strategy (:mod:`dolfinx_seal.solvers.assembly`): plain DOLFINx
   assembly by default, or dolfinx_mpc assembly with multi-point constraints
   (periodicity, also with rotation of a vector field); the constraints' slave
@@ -265,6 +268,9 @@ class NonlinearSolver:
         self.step_limiter = step_limiter
         self.history = SolveHistory()
         self.total_newton_iterations = 0
+        # called after a converged solve: a reason why the state is not a solution
+        # of the problem (e.g. outside a constitutive law's domain), or None
+        self.acceptance: Callable[[], str | None] | None = None
         self._penalty = 0.0
         fopts = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
         asm = assembly if assembly is not None else PlainAssembly()
@@ -686,6 +692,15 @@ class NonlinearSolver:
                     where=where,
                     history=self.history,
                 )
+        why = self.acceptance() if self.acceptance is not None else None
+        if why:
+            self.history.reason_name = "CONVERGED_TO_INADMISSIBLE_STATE"
+            raise SolverError(
+                f"SNES '{self.prefix}' reported {_reason_name(reason)} after {its} Newton "
+                f"steps, but {why}",
+                where=where,
+                history=self.history,
+            )
         return self.history
 
     def solve_penalty(
