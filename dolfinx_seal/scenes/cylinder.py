@@ -286,6 +286,16 @@ def _martin_start(prob: SolidContactProblem, p: CylinderParameters, speed: float
         pre.destroy()
 
 
+def _martin_coupled(prob: SolidContactProblem, p: CylinderParameters, speed: float,
+                    where: str) -> dict[str, Any]:  # fmt: skip
+    """The coupled problem at ``speed`` from the present shape with the film at the
+    Martin film thickness (:func:`_martin_start`); the start's solver figures."""
+    pre_its = _martin_start(prob, p, speed)
+    info = start_coupled(prob, speed, speed, p.stepping, where)
+    info["newton_iterations"] += pre_its
+    return info
+
+
 def start(prob: SolidContactProblem, p: CylinderParameters, s: Scales) -> dict[str, Any]:
     """Bring the coupled problem to its first converged state at ``film.speed``.
 
@@ -303,9 +313,7 @@ def start(prob: SolidContactProblem, p: CylinderParameters, s: Scales) -> dict[s
             pressure_guess=s.hertz_pressure(prob.X), peak_gap=s.peak_gap(prob.law, p.roughness.h_rms),
         )  # fmt: skip
     v0 = math.copysign(start_speed(p), target) if prob.bulk else target
-    pre_its = _martin_start(prob, p, v0)
-    info = start_coupled(prob, v0, v0, p.stepping, "cylinder")
-    info["newton_iterations"] += pre_its
+    info = _martin_coupled(prob, p, v0, "cylinder")
     if v0 != target:
         recs = speed_sweep(prob, [target], lambda *_: None, dict, p.stepping)
         if not recs[-1].converged:
@@ -377,9 +385,8 @@ def full_film_start(prob: SolidContactProblem, p: CylinderParameters, s: Scales)
         prob.restore(initial)
         prob.set_fraction(1.0)
         v0 = math.copysign(v1, target)
-        pre_its = _martin_start(prob, p, v0)
-        info = start_coupled(prob, v0, v0, p.stepping, "cylinder rigid-isoviscous start")
-        info["newton_iterations"] += pre_its + e.history.newton_iterations
+        info = _martin_coupled(prob, p, v0, "cylinder rigid-isoviscous start")
+        info["newton_iterations"] += e.history.newton_iterations
         how = (f"rigid-isoviscous start at {v0:.3g} m/s (Moes M = {START_MOES:g}; the film "
                f"start at {film_start_speed(p):.3g} m/s failed)")  # fmt: skip
     if v0 != target:
