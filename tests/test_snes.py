@@ -90,6 +90,20 @@ def test_a_converged_state_the_owner_refuses_is_a_failed_solve():
     solver.destroy()
 
 
+def test_a_newton_limit_holds_inside_its_block_only():
+    solver, _, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8, options=SNESOptions(max_it=40))
+    with solver.newton_limit(1):
+        with pytest.raises(SolverError, match="DIVERGED_MAX_IT after 1 Newton"):
+            solver.solve()
+    assert solver.snes.getTolerances()[3] == 40
+    with solver.newton_limit(0):  # 0: the solver's own limit
+        assert solver.snes.getTolerances()[3] == 40
+    with solver.newton_limit(100):  # never above it
+        assert solver.snes.getTolerances()[3] == 40
+        assert solver.solve().reason > 0
+    solver.destroy()
+
+
 def test_command_line_options_override_defaults():
     PETSc.Options()["cliprefix_snes_max_it"] = 1
     try:

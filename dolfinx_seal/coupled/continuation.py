@@ -15,8 +15,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -250,23 +249,8 @@ def _coupled_step(
     predictor alone (on the S1 ball the presolved film is a state the coupled Newton
     cannot start from).  Returns the solve history; raises :class:`SolverError` if
     the step failed."""
-    with _newton_limit(prob, st.max_newton):
+    with prob.solver.newton_limit(st.max_newton):
         return _step(prob, history, speed, st, presolver, rec)
-
-
-@contextmanager
-def _newton_limit(prob: Any, max_newton: int) -> Iterator[None]:
-    """The problem's solver limited to ``max_newton`` Newton steps in the block (0:
-    its own limit)."""
-    if not max_newton:
-        yield
-        return
-    max_it = prob.solver.snes.getTolerances()[3]
-    prob.solver.snes.setTolerances(max_it=min(max_newton, max_it))
-    try:
-        yield
-    finally:
-        prob.solver.snes.setTolerances(max_it=max_it)  # the SNES may be a new one
 
 
 def _step(prob: Any, history: Sequence[tuple[float, list[Any]]], speed: float,

@@ -855,6 +855,21 @@ class NonlinearSolver:
         """The underlying PETSc SNES."""
         return self._snes
 
+    @contextlib.contextmanager
+    def newton_limit(self, max_newton: int) -> Iterator[None]:
+        """At most ``max_newton`` Newton steps a solve inside the block (0: the
+        solver's own limit).  Set on the SNES itself: ``options.max_it`` is read
+        only when the SNES is built."""
+        if not max_newton:
+            yield
+            return
+        max_it = self._snes.getTolerances()[3]
+        self._snes.setTolerances(max_it=min(max_newton, max_it))
+        try:
+            yield
+        finally:
+            self._snes.setTolerances(max_it=max_it)  # the SNES may be a new one
+
     def destroy(self) -> None:
         """Free the PETSc objects and the options entries it set (collective)."""
         opts = PETSc.Options()

@@ -9,6 +9,7 @@ import pytest
 
 from dolfinx_seal.coupled.continuation import SpeedStepping, order_speeds, speed_sweep
 from dolfinx_seal.errors import ParameterError, SolveHistory, SolverError
+from dolfinx_seal.solvers import NonlinearSolver
 
 
 class _Speed:
@@ -41,9 +42,11 @@ class _Solver:
     """Converges (in 2 + 2 jump steps, jump in decades) unless the speed lies in a
     forbidden band, jumps too far, or the Newton limit is lower."""
 
+    newton_limit = NonlinearSolver.newton_limit  # the real one, on the fake SNES
+
     def __init__(self, prob: _Problem) -> None:
         self.prob = prob
-        self.snes = _SNES()
+        self.snes = self._snes = _SNES()
         self.limits: list[int] = []  # the Newton limit of every solve
 
     def solve(self, where: str = "") -> SolveHistory:
