@@ -255,6 +255,8 @@ def test_a_sweep_whose_first_start_fails_starts_from_its_other_end(inject, mpi_t
     assert len(rows) == 2 and all(math.isfinite(r["mu"]) for r in rows)
     failures = read_csv(out / "sweep_failures.csv")
     assert [float(f["speed"]) for f in failures] == [0.4]
+    why = failures[0]["error"]  # the start's error is kept across the resume
+    assert "from the other end" in why and "the start at 0.4 m/s failed" in why, why
     why = failures[0]["error"]
     assert "from the other end" in why and "the start at 0.4 m/s failed" in why, why
     assert re.search(REASON["nan"], why), why
@@ -297,3 +299,60 @@ def test_a_target_the_newton_limit_stalls_is_walked_again_without_it(monkeypatch
     stalled = [m for m in records if "not reached with 3 Newton steps a step" in m]
     assert len(stalled) == 1 and stalled[0].startswith("speed 0.1 m/s"), records
     assert not (mpi_tmp_path / "sweep_failures.csv").exists()
+
+
+def test_a_reversed_sweep_resumes_in_its_own_direction(inject, monkeypatch, mpi_tmp_path):
+    """The walk 0.4 -> 0.1 -> 0.05 -> 0.02 m/s with every solve above 0.15 m/s
+    failing runs reversed (from 0.02 m/s); killed as its third point (0.1 m/s) is
+    handed on, after that point's checkpoint, and resumed, it goes on from the
+    checkpoint towards 0.4 m/s, not back towards 0.02: the same rows as the walk
+    that was not interrupted (RTOL 1e-6, as tests/test_resume.py), each once, and
+    0.4 m/s recorded as not reached, with the failed start's error."""
+    from dolfinx_seal import checkpoint
+    from dolfinx_seal.output import SweepWriter
+    from dolfinx_seal.scenes.cylinder import CYLINDER
+
+    inject("nan", above=0.15)
+    p = scenes.make_parameters("cylinder", values={**RIGID, "sweep_order": "given"})
+    speeds = [0.4, 0.1, 0.05, 0.02]
+    ref_out = mpi_tmp_path / "reference"
+    scenes.sweep_scene("cylinder", p, ref_out, "film.speed", speeds)
+    ref = read_csv(ref_out / "sweep.csv")
+    assert [float(r["film.speed"]) for r in ref] == [0.02, 0.05, 0.1]
+
+    out = mpi_tmp_path / "resumed"
+    append = SweepWriter.append
+
+    def killed(self, row):
+        if float(row["film.speed"]) == 0.1:
+            raise KeyboardInterrupt("killed")
+        return append(self, row)
+
+    monkeypatch.setattr(SweepWriter, "append", killed)
+    with pytest.raises(KeyboardInterrupt):
+        scenes.sweep_scene("cylinder", p, out, "film.speed", speeds)
+    meta = checkpoint.read_meta(out)
+    assert meta is not None and meta["reverse"] and meta["speed"] == 0.1
+    monkeypatch.setattr(SweepWriter, "append", append)
+    starts: list[float] = []
+    real = CYLINDER.start
+
+    def counted(prob, q, s):
+        starts.append(q.film.speed)
+        return real(prob, q, s)
+
+    object.__setattr__(CYLINDER, "start", counted)  # a frozen dataclass field
+    try:
+        scenes.sweep_scene("cylinder", p, out, "film.speed", speeds, resume=True)
+    finally:
+        object.__setattr__(CYLINDER, "start", real)
+    assert not starts, "the resumed sweep started afresh instead of from its checkpoint"
+    rows = read_csv(out / "sweep.csv")
+    assert [float(r["film.speed"]) for r in rows] == [0.02, 0.05, 0.1]
+    for r, q in zip(rows, ref, strict=True):
+        for k in ("mu", "h_min", "load_fluid", "normal_load"):
+            assert float(r[k]) == pytest.approx(float(q[k]), rel=1e-6, abs=0.0), (k, r)
+    failures = read_csv(out / "sweep_failures.csv")
+    assert [float(f["speed"]) for f in failures] == [0.4]
+    why = failures[0]["error"]  # the start's error is kept across the resume
+    assert "from the other end" in why and "the start at 0.4 m/s failed" in why, why

@@ -527,7 +527,8 @@ class _Walk:
         self.index = self.pending.pop(0)
         self.csv_rows += 1
         meta = {"serial": self.csv_rows, "rows": self.csv_rows, "index": self.index,
-                "speed": v, "failed": self.failed, "reverse": self.reverse}  # fmt: skip
+                "speed": v, "failed": self.failed, "reverse": self.reverse,
+                "first_error": self.first_error, "first_target": self.first_target}  # fmt: skip
         checkpoint.save(self.out, self.unknowns, meta)
         self.rows.append(r)
         self.done.append(v)
@@ -634,6 +635,8 @@ class _Walk:
         self.failed = list(meta.get("failed", []))
         self.csv_rows = resume.rows
         self.reverse = bool(meta.get("reverse", False))
+        self.first_error = str(meta.get("first_error", ""))
+        self.first_target = float(meta.get("first_target", math.nan))
         if self.reverse:  # the walk went from the last target back to the first
             self.index = idx + 1 if resume.rows < rows else idx
             self.pending = list(range(self.index - 1, -1, -1))
