@@ -68,6 +68,7 @@ class SteppingOptions:
         predictor: Start each step from the linear extrapolation of the last two
             converged states (useful under position control, where the contact
             zone must follow the moving counter-surface).
+        max_increment: Largest increment (None: no cap).
         max_newton: Newton steps allowed to one step before it counts as failed and
             is cut (0: the solver's own limit).  A step that needs many more than
             an accepted step does usually ends in a NaN or the limit anyway.
@@ -80,6 +81,7 @@ class SteppingOptions:
     min_increment: float = 1e-4
     max_steps: int = 200
     predictor: bool = False
+    max_increment: float | None = None
     max_newton: int = 0
 
     def __post_init__(self) -> None:
@@ -90,12 +92,15 @@ class SteppingOptions:
         check_int_range("easy", self.easy, 1)
         check_int_range("max_steps", self.max_steps, 1)
         check_int_range("max_newton", self.max_newton, 0)
+        if self.max_increment is not None:
+            check_positive("max_increment", self.max_increment)
 
     def control(self, span: float) -> StepControl:
         """The step control of a walk over a load-fraction interval of length ``span``."""
         return StepControl(
             first=min(self.first, span), grow=self.grow, easy=self.easy, cut=self.cut,
-            min_step=self.min_increment, max_attempts=self.max_steps, tolerance=1e-14,
+            min_step=self.min_increment, max_step=self.max_increment,
+            max_attempts=self.max_steps, tolerance=1e-14,
         )  # fmt: skip
 
 

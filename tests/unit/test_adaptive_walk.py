@@ -85,6 +85,22 @@ def test_growth_is_capped_and_every_step_counts_as_easy_without_easy():
     assert np.all(steps <= 0.4 + 1e-12)
 
 
+def test_load_stepping_options_cap_the_increment():
+    """``SteppingOptions.max_increment`` is the walk's ``max_step`` (the load
+    stepping of :meth:`~dolfinx_seal.solid.problem.SolidContactProblem.ramp`)."""
+    from dolfinx_seal.solid.problem import SteppingOptions
+
+    prob = CubicRoot(max_it=50)
+    control = SteppingOptions(first=0.1, grow=2.0, easy=50, max_increment=0.25).control(2.0)
+    res = _walker(prob, control).walk(0.0, 2.0)
+    steps = np.diff([0.0] + [a.value for a in res.accepted])
+    assert res.converged and steps[:3] == pytest.approx([0.1, 0.2, 0.25], rel=1e-12)
+    assert np.all(steps <= 0.25 + 1e-12) and len(steps) == 9
+    assert SteppingOptions().control(1.0).max_step is None
+    with pytest.raises(ParameterError, match="max_increment"):
+        SteppingOptions(max_increment=0.0)
+
+
 def test_a_stall_keeps_the_last_accepted_state_and_resets_the_step():
     prob = CubicRoot(max_it=30)
     control = StepControl(first=0.5, cut=0.5, min_step=0.05, reset_step=0.5)
