@@ -305,8 +305,8 @@ class SolidContactProblem:
             displacement_limiter(self, max_step, None) if (max_step and self.bulk) else None
         )
         self.solver = self._make_solver(snes or SNESOptions(max_it=30), limiter)
+        self._fold_forms: list[Any] | None = None  # built by folded_contact when first called
         if self.bulk and film is not None and law is not None:
-            self._fold_forms: list[Any] | None = None
             self.solver.acceptance = self.folded_contact
         self.steps: list[StepRecord] = []
         self._force_compiled = dolfinx.fem.form(self.force_form)
@@ -643,14 +643,11 @@ class SolidContactProblem:
 
         Pressure pushes, so on every part of the surface that faces the
         counter-surface the asperity force ``-p_cont J F^-T N . e_n`` is positive;
-        a negative part larger than 1e-3 of the positive asperity and the fluid
-        normal forces means the surface is folded over (its deformed normal turned
-        away from the counter-surface) where the asperities press.  Measured on the
-        S1 cylinder at 1 mm/s on a coarse mesh (a/8): a start at two ranks (whose
-        path is not bit-reproducible) converged, about once in ten, to such a state:
-        h_min = -0.25 um, 162 N/m in the film under a prescribed 100 N/m, which
-        leaves -62 N/m to the asperities; the regular state carries 57 N/m in the
-        film.  The solver calls this after convergence
+        a negative part larger than :data:`FOLD_TOLERANCE` of the positive asperity
+        and the fluid normal forces means the surface is folded over (its deformed
+        normal turned away from the counter-surface) where the asperities press
+        (the case that showed it: docs/design.md, "Starts and their fallback
+        chain").  The solver calls this after convergence
         (:attr:`~dolfinx_seal.solvers.snes.NonlinearSolver.acceptance`) and treats
         a reason as a failed solve, so continuation cuts its step and a start
         takes its fallback chain."""
