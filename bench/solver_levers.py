@@ -44,6 +44,8 @@ from dolfinx_seal.solvers import extra_petsc_options, solver_session
 #: the levers: name -> PETSc options (without prefix) for every solver of the scene
 LEVERS: dict[str, dict[str, Any]] = {
     "default": {},  # MUMPS with its automatic ordering choice (ICNTL(7) = 7)
+    # PETSc's own reduced-space solve: a new submatrix (and analysis) every step
+    "submatrix": {},
     "metis": {"mat_mumps_icntl_7": 5},
     "scotch": {"mat_mumps_icntl_7": 3},
     "pord": {"mat_mumps_icntl_7": 4},
@@ -56,11 +58,13 @@ LEVERS: dict[str, dict[str, Any]] = {
 }
 
 #: the levers' :class:`~dolfinx_seal.solvers.SNESOptions` fields for every solver
-#: of the scene (:func:`dolfinx_seal.solvers.solver_session`): the wrapper's
+#: of the scene (:func:`dolfinx_seal.solvers.solver_session`): PETSc's own
+#: reduced-space solve (a submatrix and its analysis every step); the wrapper's
 #: fixed-pattern semismooth VI (one analysis for the whole sweep), then with the
 #: factorisation kept as GMRES's right preconditioner across Newton steps and
 #: points, rebuilt after a linear solve of more than 10 iterations
 SNES_FIELDS: dict[str, dict[str, Any]] = {
+    "submatrix": {"vi_linear_solve": "submatrix"},
     "semismooth": {"snes_type": "semismooth"},
     "semismooth-reuse": {"snes_type": "semismooth", "factor_reuse_its": 10},
 }
@@ -81,6 +85,17 @@ def _events() -> dict[str, tuple[int, float]]:
         info = PETSc.Log.Event(name).getPerfInfo()
         out[key] = (int(info["count"]), float(info["time"]))
     return out
+
+
+def solver_field(text: str) -> tuple[str, Any]:
+    """``FIELD=VALUE`` of a bench's ``--solver`` option: the value as an int or float where it is one."""
+    key, _, value = text.partition("=")
+    for kind in (int, float):
+        try:
+            return key, kind(value)
+        except ValueError:
+            pass
+    return key, value
 
 
 def run_lever(name: str, options: dict[str, Any], speeds: list[float], out: Path) -> dict:

@@ -104,6 +104,34 @@ def test_a_newton_limit_holds_inside_its_block_only():
     solver.destroy()
 
 
+def test_a_stalled_solve_fails_after_its_stall_steps_inside_the_block_only():
+    """Newton steps damped to 1/200 lower the residual by 0.5 % each: with
+    ``stall_steps = 3`` the solve fails as DIVERGED_STALLED after 3 steps; outside
+    the block it runs to the solver's limit; undamped, the stall rule never fires
+    (quadratic convergence lowers the residual by decades a step)."""
+    damped = {"snes_linesearch_damping": 0.005}
+    solver, _, _ = _nonlinear_poisson(
+        MPI.COMM_WORLD, n=8, options=SNESOptions(max_it=8), petsc_options=damped
+    )
+    with solver.newton_limit(0, stall_steps=3):
+        with pytest.raises(
+            SolverError,
+            match=r"DIVERGED_STALLED \(the residual fell by less "
+            r"than 1% in each of the last 3 Newton steps\) after 3 Newton",
+        ) as e:
+            solver.solve()
+    norms = np.array(e.value.history.residual_norms)
+    assert np.all(norms[1:] > 0.99 * norms[:-1])
+    with pytest.raises(SolverError, match="DIVERGED_MAX_IT after 8 Newton"):
+        solver.solve()
+    solver.destroy()
+    solver, _, _ = _nonlinear_poisson(MPI.COMM_WORLD, n=8)
+    with solver.newton_limit(0, stall_steps=1):
+        h = solver.solve()
+    assert h.reason > 0 and h.newton_iterations <= 6
+    solver.destroy()
+
+
 def test_command_line_options_override_defaults():
     PETSc.Options()["cliprefix_snes_max_it"] = 1
     try:
@@ -225,6 +253,41 @@ def test_semismooth_fixed_pattern_matches_the_reduced_space_vi():
     assert np.allclose(u1.x.array, u2.x.array, atol=1e-10)
     s1.destroy()
     s2.destroy()
+
+
+def _analysis_count() -> int:
+    return int(PETSc.Log.Event("MatLUFactorSym").getPerfInfo()["count"])
+
+
+def test_full_pattern_reduced_solve_takes_the_same_steps_with_one_analysis():
+    """vi_linear_solve: the reduced system ``J_II dx_I = -F_I`` solved through the
+    full matrix with identity rows at the active bounds is the same linear system,
+    so the same Newton iterates (residuals to round-off) and the same solution; the
+    pattern is fixed, so one analysis for every step of two solves, where PETSc's
+    submatrix is analysed at every step (41 steps a solve here, 1 and 2 ranks)."""
+    PETSc.Log.begin()
+    runs = {}
+    for mode in ("submatrix", "full_pattern"):
+        solver, u = _string_on_obstacle(MPI.COMM_WORLD, options=SNESOptions(vi_linear_solve=mode))
+        before = _analysis_count()
+        h = solver.solve()
+        u.x.array[:] = 0.0
+        h2 = solver.solve()  # again from zero: the same work matrix
+        runs[mode] = (h, h2, _analysis_count() - before, u.x.array.copy())
+        assert solver.snes.getKSP().getPC().getType() == (
+            "python" if mode == "full_pattern" else "lu"
+        )
+        solver.destroy()
+    (h_s, h2_s, an_s, u_s), (h_f, h2_f, an_f, u_f) = runs["submatrix"], runs["full_pattern"]
+    steps = h_s.newton_iterations
+    assert steps >= 5  # the active set moves over several steps
+    assert h_f.newton_iterations == steps and h2_f.newton_iterations == h2_s.newton_iterations
+    r_s, r_f = np.array(h_s.residual_norms), np.array(h_f.residual_norms)
+    assert np.all(np.abs(r_f - r_s) <= 1e-8 * r_s[0])
+    assert np.allclose(u_f, u_s, rtol=0, atol=1e-12)
+    assert h_f.complementarity <= 1e-9
+    assert an_s == steps + h2_s.newton_iterations  # a new submatrix object every step
+    assert an_f == 1
 
 
 def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():

@@ -22,6 +22,10 @@
   assembly by default, or dolfinx_mpc assembly with multi-point constraints
   (periodicity, also with rotation of a vector field); the constraints' slave
   dofs are never bounded and their Newton update is zeroed;
+* the reduced-space VI's linear solve on the full matrix's fixed pattern
+  (``vi_linear_solve = "full_pattern"``): the inactive rows' system solved by
+  one LU of the full Jacobian with identity rows at the active bounds, so MUMPS
+  analyses the pattern once per solver instead of every Newton step;
 * an opt-in fixed-pattern VI solver (``snes_type = "semismooth"``: identity rows
   at active bounds written into the matrix's own pattern) and, with it, a kept
   factorisation as GMRES's preconditioner (``factor_reuse_its``), rebuilt only
@@ -65,6 +69,16 @@ _counter = itertools.count()
 _VI_TYPES = ("vinewtonrsls", "vinewtonssls")
 #: the bounded types: PETSc's VI solvers and the wrapper's own fixed-pattern one
 _BOUNDED_TYPES = (*_VI_TYPES, "semismooth")
+
+#: a Newton step "stalls" when it lowers the residual norm by less than this fraction
+#: (see :meth:`NonlinearSolver.newton_limit`)
+STALL_REDUCTION = 0.01
+#: the SNES reason a stalled solve ends with (PETSc has none of its own; the history
+#: names it DIVERGED_STALLED)
+_DIVERGED_STALLED = int(PETSc.SNES.ConvergedReason.DIVERGED_LOCAL_MIN)
+
+#: how ``vinewtonrsls`` solves its reduced system (``SNESOptions.vi_linear_solve``)
+_VI_LINEAR_SOLVES = ("submatrix", "full_pattern")
 
 #: PETSc options (without prefix) given to every solver created inside
 #: :func:`extra_petsc_options`; a solver's own ``petsc_options`` win over them
@@ -161,6 +175,15 @@ class SNESOptions:
             after a linear solve that took more than ``k`` iterations or failed.
             Needs a fixed matrix pattern: ``newtonls`` or ``semismooth``.
         linear_rtol: GMRES relative tolerance when ``factor_reuse_its > 0``.
+        vi_linear_solve: How ``vinewtonrsls`` solves its reduced system
+            ``J_II dx_I = -F_I`` (I: the rows off an active bound) with a direct
+            ``pc_type``: ``submatrix`` (PETSc's own: a new submatrix every Newton
+            step, so the factorisation's analysis is redone every step) or
+            ``full_pattern``: the full Jacobian with the active rows replaced by
+            identity rows in its own sparsity pattern, ``[[J_II, J_IA], [0, I]]
+            [dx_I; dx_A] = [-F_I; 0]``, whose ``dx_I`` is the same step; the pattern
+            never changes, so the analysis is done once per solver and only the
+            numeric factorisation is repeated.
         monitor: Print the residual at every Newton step (rank 0).
         error_on_failure: Raise :class:`SolverError` when SNES does not converge.
     """
@@ -178,6 +201,7 @@ class SNESOptions:
     dtol: float = 1e4
     factor_reuse_its: int = 0
     linear_rtol: float = 1e-9
+    vi_linear_solve: str = "full_pattern"
     monitor: bool = False
     error_on_failure: bool = True
 
@@ -191,6 +215,7 @@ class SNESOptions:
                 "or rescaled matrix changes every step)"
             )
         check_positive("linear_rtol", self.linear_rtol)
+        check_choice("vi_linear_solve", self.vi_linear_solve, _VI_LINEAR_SOLVES)
         check_choice("line_search", self.line_search, ("basic", "bt", "l2", "cp", "nleqerr"))
         check_positive("rtol", self.rtol)
         check_positive("atol", self.atol)
@@ -271,6 +296,10 @@ class NonlinearSolver:
         # called after a converged solve: a reason why the state is not a solution
         # of the problem (e.g. outside a constitutive law's domain), or None
         self.acceptance: Callable[[], str | None] | None = None
+        self._stall_steps = 0  # see newton_limit
+        self._stalled = 0  # consecutive Newton steps of the solve under way that stalled
+        self._stall_hit = False  # the solve under way ended stalled
+        self._fnorm_last = 0.0
         self._penalty = 0.0
         fopts = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
         asm = assembly if assembly is not None else PlainAssembly()
@@ -333,6 +362,7 @@ class NonlinearSolver:
         self._extra_options = {k: v for d in _SESSION_OPTIONS for k, v in d.items()}
         self._extra_options.update(petsc_options or {})
         self._own_options: list[str] = []  # global PETSc options entries this solver set
+        self._full_lu: _FullPatternLU | None = None  # vi_linear_solve = "full_pattern"
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
         self._tangent_ksp: PETSc.KSP | None = None
@@ -400,6 +430,15 @@ class NonlinearSolver:
                 # solves; _jacobian resets it after a slow linear solve
                 "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
             })  # fmt: skip
+        full_pattern = (
+            bounded
+            and o.snes_type == "vinewtonrsls"
+            and o.vi_linear_solve == "full_pattern"
+            and o.ksp_type == "preonly"
+            and o.pc_type == "lu"
+        )
+        if full_pattern:  # the reduced system through the full pattern's LU
+            defaults["pc_type"] = "python"
         defaults.update(self._extra_options)
         for k, v in defaults.items():
             if not opts.hasName(prefix + k):  # the command line wins
@@ -414,6 +453,12 @@ class NonlinearSolver:
             snes.setLineSearchPreCheck(self._precheck)
         snes.setFromOptions()
         snes.getKSP().setFromOptions()
+        pc = snes.getKSP().getPC()
+        if full_pattern and pc.getType() == "python":  # not overridden on the command line
+            if self._full_lu is None:
+                self._full_lu = _FullPatternLU(self, prefix)
+            self._full_lu.discard_factor()  # a new SNES: a failed factorisation is not kept
+            pc.setPythonContext(self._full_lu)
         if not opts.hasName(prefix + "snes_divergence_tolerance"):
             snes.setDivergenceTolerance(o.dtol)
         # after setFromOptions: setting the VI type installs PETSc's own test
@@ -503,6 +548,8 @@ class NonlinearSolver:
             return R.DIVERGED_FNORM_NAN
         if it == 0:
             self._fnorm0 = fnorm
+            self._stalled = 0
+            self._fnorm_last = fnorm
             return R.CONVERGED_FNORM_ABS if fnorm <= self._atol_eff else R.ITERATING
         if fnorm <= self._atol_eff:
             return R.CONVERGED_FNORM_ABS
@@ -517,6 +564,13 @@ class NonlinearSolver:
                 <= self.options.floor_rtol * max(x, 1e-300)
             ):
                 return R.CONVERGED_SNORM_RELATIVE
+        if self._stall_steps:
+            slow = fnorm > (1.0 - STALL_REDUCTION) * self._fnorm_last
+            self._stalled = self._stalled + 1 if slow else 0
+            self._fnorm_last = fnorm
+            if self._stalled >= self._stall_steps:
+                self._stall_hit = True
+                return _DIVERGED_STALLED
         if it >= snes.getTolerances()[3]:
             return R.DIVERGED_MAX_IT
         dtol = snes.getDivergenceTolerance()
@@ -633,6 +687,7 @@ class NonlinearSolver:
         self._atol_eff = max(self.options.atol, self.options.rtol * self.residual_scale())
         self._floor = max(self._atol_eff, self.options.floor_rtol * self.residual_scale())
         self._fnorm0 = 0.0
+        self._stall_hit = False
         self._from_functions(self.x)
         if self.has_bounds and self._penalty == 0.0:
             # project the start onto the bounds: VI solvers require a feasible start
@@ -660,6 +715,11 @@ class NonlinearSolver:
         reason = snes.getConvergedReason()
         self.history.reason = int(reason)
         self.history.reason_name = _reason_name(reason)
+        if self._stall_hit:
+            self.history.reason_name = (
+                f"DIVERGED_STALLED (the residual fell by less than {STALL_REDUCTION:.0%} "
+                f"in each of the last {self._stall_steps} Newton steps)"
+            )
         its = snes.getIterationNumber()
         self.total_newton_iterations += its
         where = where or self.name
@@ -679,9 +739,9 @@ class NonlinearSolver:
             self.history.complementarity = self.complementarity()
             tol = self._floor
             xinf = self.x.norm(PETSc.NormType.NORM_INFINITY)
-            self._jacobian(snes, self.x, self.A, self.A)  # the diagonal at the solution
             ok = self.history.complementarity <= tol
-            if not ok:
+            if not ok:  # the round-off allowance, with the diagonal at the solution
+                self._jacobian(snes, self.x, self.A, self.A)
                 F = self.residual()
                 ok = self.scaled_residual(F) <= self.options.floor_rtol * max(xinf, 1e-300)
                 F.destroy()  # a parallel Vec is not freed by Python alone (bench/soak.py)
@@ -856,19 +916,23 @@ class NonlinearSolver:
         return self._snes
 
     @contextlib.contextmanager
-    def newton_limit(self, max_newton: int) -> Iterator[None]:
+    def newton_limit(self, max_newton: int, stall_steps: int = 0) -> Iterator[None]:
         """At most ``max_newton`` Newton steps a solve inside the block (0: the
         solver's own limit).  Set on the SNES itself: ``options.max_it`` is read
-        only when the SNES is built."""
-        if not max_newton:
-            yield
-            return
+        only when the SNES is built.  ``stall_steps > 0``: a solve also fails
+        (``DIVERGED_STALLED``) once that many consecutive Newton steps have each
+        lowered the residual norm by less than :data:`STALL_REDUCTION`."""
+        stall = self._stall_steps
+        self._stall_steps = stall_steps
         max_it = self._snes.getTolerances()[3]
-        self._snes.setTolerances(max_it=min(max_newton, max_it))
+        if max_newton:
+            self._snes.setTolerances(max_it=min(max_newton, max_it))
         try:
             yield
         finally:
-            self._snes.setTolerances(max_it=max_it)  # the SNES may be a new one
+            self._stall_steps = stall
+            if max_newton:
+                self._snes.setTolerances(max_it=max_it)  # the SNES may be a new one
 
     def destroy(self) -> None:
         """Free the PETSc objects and the options entries it set (collective)."""
@@ -889,7 +953,102 @@ class NonlinearSolver:
         ):
             if obj is not None:
                 obj.destroy()
+        if self._full_lu is not None:
+            self._full_lu.destroy()
+            self._full_lu = None
         self.assembly.destroy()
+
+
+class _FullPatternLU:
+    """Python preconditioner of ``vinewtonrsls``'s KSP (``vi_linear_solve =
+    "full_pattern"``): an exact solve of the reduced system ``J_II y_I = r_I``.
+
+    PETSc's reduced-space VI extracts the submatrix ``J_II`` of the rows and
+    columns off an active bound at every Newton step; a new matrix object makes
+    the direct solver redo its analysis (ordering, symbolic factorisation), which
+    is sequential in MUMPS.  Here the owner's full Jacobian (the matrix the SNES
+    assembled) is copied into a work matrix of the same pattern, whose active rows
+    become identity rows (the pattern is kept), and factorised: ``[[J_II, J_IA],
+    [0, I]] [y_I; y_A] = [r_I; 0]`` gives ``y_A = 0`` and ``J_II y_I = r_I``.  The
+    work matrix is one object with one pattern, so only the numeric factorisation
+    is repeated.  The inner solver has the owner's options prefix, so
+    ``-<prefix>mat_mumps_*`` options reach it."""
+
+    def __init__(self, owner: NonlinearSolver, prefix: str) -> None:
+        self.owner = owner
+        self.prefix = prefix
+        self.W: PETSc.Mat | None = None
+        self.ksp: PETSc.KSP | None = None
+        self.xf: PETSc.Vec | None = None
+        self.yf: PETSc.Vec | None = None
+        self.analyses = 0  # work matrices factorised from scratch
+
+    def _inactive(self) -> PETSc.IS:
+        return self.owner._snes.getVIInactiveSet()
+
+    def setUp(self, pc: PETSc.PC) -> None:  # petsc4py's name
+        A = self.owner.A
+        if self.W is None:
+            self.W = A.duplicate(copy=True)
+            self.W.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+            self.xf, self.yf = self.W.createVecs()
+        else:
+            A.copy(self.W, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        rstart, rend = self.W.getOwnershipRange()
+        active = self._inactive().complement(rstart, rend)
+        self.W.zeroRows(active, diag=1.0)  # collective; keeps the pattern
+        active.destroy()
+        if self.ksp is None:
+            ksp = PETSc.KSP().create(self.W.getComm())
+            ksp.setType("preonly")
+            inner = ksp.getPC()
+            inner.setOptionsPrefix(self.prefix)  # the factor reads -<prefix>mat_mumps_*
+            inner.setType("lu")
+            inner.setFactorSolverType(self.owner.options.factor_solver)
+            ksp.setOperators(self.W)
+            self.ksp = ksp
+            self.analyses += 1
+        self.ksp.setUp()  # numeric factorisation only, after the first
+        failed = self.ksp.getPC().getFailedReason()
+        if failed:
+            pc.setFailedReason(failed)
+
+    def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        inact = self._inactive()
+        self.xf.zeroEntries()
+        sub = self.xf.getSubVector(inact)
+        x.copy(sub)
+        self.xf.restoreSubVector(inact, sub)
+        self.ksp.solve(self.xf, self.yf)
+        if self.ksp.getConvergedReason() < 0:
+            pc.setFailedReason(self.ksp.getPC().getFailedReason() or 1)
+        sub = self.yf.getSubVector(inact)
+        sub.copy(y)
+        self.yf.restoreSubVector(inact, sub)
+
+    def factor(self) -> PETSc.Mat | None:
+        """The inner factor matrix (for failure reports), or None."""
+        if self.ksp is None:
+            return None
+        try:
+            return self.ksp.getPC().getFactorMatrix()
+        except PETSc.Error:
+            return None
+
+    def discard_factor(self) -> None:
+        """Drop the factorisation (the next set-up analyses afresh)."""
+        if self.ksp is not None:
+            self.ksp.destroy()
+            self.ksp = None
+
+    def destroy(self, pc: PETSc.PC | None = None) -> None:
+        """Free the work matrix, vectors and factorisation (PETSc calls it when the
+        SNES's preconditioner is destroyed; they are built again at the next set-up)."""
+        self.discard_factor()
+        for obj in (self.W, self.xf, self.yf):
+            if obj is not None:
+                obj.destroy()
+        self.W = self.xf = self.yf = None
 
 
 # ------------------------------------------------------------------ helpers
@@ -950,7 +1109,10 @@ def _linear_failure(snes: PETSc.SNES) -> str:
         with contextlib.suppress(Exception):
             parts.append("PC " + _named(PETSc.PC.FailedReason, int(pc.getFailedReason())))
         with contextlib.suppress(Exception):
-            F = pc.getFactorMatrix()
+            if pc.getType() == "python":  # vi_linear_solve = "full_pattern"
+                F = pc.getPythonContext().factor()
+            else:
+                F = pc.getFactorMatrix()
             if F.getType() == "mumps":
                 parts.append(
                     f"MUMPS INFOG(1) = {F.getMumpsInfog(1)}, INFOG(2) = {F.getMumpsInfog(2)}"

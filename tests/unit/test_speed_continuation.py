@@ -47,6 +47,7 @@ class _Solver:
     def __init__(self, prob: _Problem) -> None:
         self.prob = prob
         self.snes = self._snes = _SNES()
+        self._stall_steps = 0  # newton_limit's stall rule (only recorded here)
         self.limits: list[int] = []  # the Newton limit of every solve
 
     def solve(self, where: str = "") -> SolveHistory:
