@@ -49,6 +49,11 @@ class SpeedStepping:
             solver's own limit); a step that needs more is cut like a failed
             one.  With the exact Jacobian a step converges in 3-5; a doomed one
             otherwise runs to the solver's limit (60 on the lubricated scenes).
+        stall_steps: A continuation step also fails once this many consecutive
+            Newton steps have each lowered the residual by less than 1 % (0:
+            never; :meth:`~dolfinx_seal.solvers.NonlinearSolver.newton_limit`).
+            A converging step lowers it by decades a step; one stuck at a
+            residual plateau otherwise runs on to ``max_newton``.
         tangent: With ``predictor``, start each step from the tangent of the
             solution path instead (:func:`tangent_predictor`: one extra linear
             solve with the Jacobian at the last converged state; also on the
@@ -74,6 +79,7 @@ class SpeedStepping:
     easy: int = 8
     predictor: bool = True
     max_newton: int = 0
+    stall_steps: int = 0
     tangent: bool = False
     max_failures: int = 0
     film_presolve: bool = True
@@ -86,6 +92,7 @@ class SpeedStepping:
         check_int_range("easy", self.easy, 1)
         check_int_range("max_failures", self.max_failures, 0)
         check_int_range("max_newton", self.max_newton, 0)
+        check_int_range("stall_steps", self.stall_steps, 0)
         check_nonnegative("time_budget", self.time_budget, unit="s")
 
     def control(self) -> StepControl:
@@ -192,13 +199,14 @@ def _walk(
         t0 = time.perf_counter()
         res = walker.walk(float(film.speed.value), float(target))
         its, steps, accepted = res.newton_iterations, res.steps, list(res.accepted)
-        if not res.converged and st.max_newton:
+        if not res.converged and (st.max_newton or st.stall_steps):
             # the Newton limit buys speed on easy steps; a target it stalls is walked
             # once more from where the walk stopped, with the solver's own limit
+            # (and no stall rule)
             log.info("speed %.4g m/s not reached with %d Newton steps a step (%s); again "
                      "from %.4g m/s with the solver's own limit", target, st.max_newton,
                      res.last_error.what if res.last_error else "", float(film.speed.value))  # fmt: skip
-            step_options[0] = dataclasses.replace(st, max_newton=0)
+            step_options[0] = dataclasses.replace(st, max_newton=0, stall_steps=0)
             # from a short step: the walk has just shown that long ones do not converge,
             # and each failure now costs the solver's full limit
             walker.step = max(RETRY_DECADES, 2.0 * st.min_decades)
@@ -249,7 +257,7 @@ def _coupled_step(
     predictor alone (on the S1 ball the presolved film is a state the coupled Newton
     cannot start from).  Returns the solve history; raises :class:`SolverError` if
     the step failed."""
-    with prob.solver.newton_limit(st.max_newton):
+    with prob.solver.newton_limit(st.max_newton, st.stall_steps):
         return _step(prob, history, speed, st, presolver, rec)
 
 
