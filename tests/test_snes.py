@@ -290,6 +290,24 @@ def test_full_pattern_reduced_solve_takes_the_same_steps_with_one_analysis():
     assert an_f == 1
 
 
+def test_switching_the_vi_type_resets_the_solvers_own_options():
+    """The full-pattern solve's ``pc_type python`` is the solver's own entry, not a
+    command-line one: switching to ``vinewtonssls`` (which solves the full system
+    itself) gives its LU back, and switching back gives the preconditioner back;
+    each type reaches the same solution."""
+    solver, u = _string_on_obstacle(MPI.COMM_WORLD)
+    solver.solve()
+    ref = u.x.array.copy()
+    for snes_type, pc_type in (("vinewtonssls", "lu"), ("vinewtonrsls", "python")):
+        solver.set_snes_type(snes_type)
+        u.x.array[:] = 0.0
+        h = solver.solve()
+        assert solver.snes.getKSP().getPC().getType() == pc_type
+        assert h.complementarity <= 1e-9
+        assert np.allclose(u.x.array, ref, rtol=0, atol=1e-10)
+    solver.destroy()
+
+
 def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
     """factor_reuse_its: GMRES preconditioned by the first factorisation across the
     Newton steps and into a second solve (a moved obstacle, as in continuation)."""

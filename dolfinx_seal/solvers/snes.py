@@ -361,7 +361,8 @@ class NonlinearSolver:
         self._diag = self.b.duplicate()
         self._extra_options = {k: v for d in _SESSION_OPTIONS for k, v in d.items()}
         self._extra_options.update(petsc_options or {})
-        self._own_options: list[str] = []  # global PETSc options entries this solver set
+        # global PETSc options entries this solver set: key -> the SNES's prefix
+        self._own_options: dict[str, str] = {}
         self._full_lu: _FullPatternLU | None = None  # vi_linear_solve = "full_pattern"
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
@@ -438,12 +439,18 @@ class NonlinearSolver:
             and o.pc_type == "lu"
         )
         if full_pattern:  # the reduced system through the full pattern's LU
-            defaults["pc_type"] = "python"
+            defaults["pc_type"] = "python"  # its inner LU is given the factor package
+            defaults.pop("pc_factor_mat_solver_type", None)
         defaults.update(self._extra_options)
+        # the entries an earlier SNES of this prefix set (e.g. before set_snes_type)
+        # are this solver's, not the command line's: they give way to the new defaults
+        for key in [key for key, pre in self._own_options.items() if pre == prefix]:
+            opts.delValue(key)
+            del self._own_options[key]
         for k, v in defaults.items():
             if not opts.hasName(prefix + k):  # the command line wins
                 opts[prefix + k] = v
-                self._own_options.append(prefix + k)  # removed again by destroy()
+                self._own_options[prefix + k] = prefix  # removed again by destroy()
         snes.setFunction(self._residual, self.b)
         snes.setJacobian(self._jacobian, self.A)
         if bounded and o.snes_type in _VI_TYPES:
