@@ -6,7 +6,7 @@ NP3 ?= 3
 XDIST ?= 2
 PYTEST_FLAGS ?= -q -p no:cacheprovider
 
-.PHONY: demo demo-ball demo-sector test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench bench-perf soak stability env
+.PHONY: demo demo-ball demo-sector test test-dx-paths test-serial test-mpi test-mpi3 test-mpi3-all test-slow lint bench bench-perf bench-point soak stability env
 
 demo:  ## the main demo: the lubricated lip seal (installed section, leakage line, torque curve) into results/demo
 	$(DX) mpirun -n $(NP) python3 demos/lip_seal.py --out results/demo
@@ -64,6 +64,10 @@ bench-perf:  ## issue 18: the 30-speed ball Stribeck sweep on 1 rank, on $(NP) r
 	$(DX) python3 bench/perf.py --chains 1
 	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains 1
 	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains $(NP)
+
+bench-point:  ## issue 18: one ball point at a/20 (1 m/s, from its start) on 1 and on $(NP) ranks (bench/results/perf/perf.csv)
+	$(DX) python3 bench/perf.py --points 1 --per-a 20 --label "point a/20, 1 rank"
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --points 1 --per-a 20 --label "point a/20, $(NP) ranks"
 
 soak:  ## about 10 min: memory (C heap trimmed before each reading) over a 240-point cylinder sweep, serial and on $(NP) ranks (bench/results/soak*_trim.csv, .png)
 	$(DX) python3 bench/soak.py --trim

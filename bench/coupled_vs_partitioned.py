@@ -31,6 +31,9 @@ from pathlib import Path
 import ufl
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from solver_levers import solver_field
 
 from dolfinx_seal.contact.hertz import hertz_line
 from dolfinx_seal.coupled.continuation import FilmPresolver, secant_predictor
@@ -42,7 +45,7 @@ from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.scenes import make_parameters
 from dolfinx_seal.scenes.cylinder import build_lubricated, start_lubricated
 from dolfinx_seal.solid.materials import LinearElastic
-from dolfinx_seal.solvers import NonlinearSolver, SNESOptions
+from dolfinx_seal.solvers import NonlinearSolver, SNESOptions, solver_session
 
 
 def linear_elastic_solve_time(prob, params) -> float:
@@ -80,7 +83,16 @@ def main(argv: list[str] | None = None) -> None:
                         help="start both schemes from the lower point, not the secant predictor")  # fmt: skip
     parser.add_argument("--no-film-presolve", dest="film_presolve", action="store_false",
                         help="monolithic Newton without the film-only solve before it")  # fmt: skip
+    parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
+                        help="SNESOptions fields for every solver (e.g. "
+                             "vi_linear_solve=submatrix)")  # fmt: skip
     args = parser.parse_args(argv)
+    with solver_session(**dict(solver_field(f) for f in args.solver)):
+        run(args)
+
+
+def run(args: argparse.Namespace) -> None:
+    """The benchmark of :func:`main` (inside its solver session)."""
     out = bcast_path(args.out)
     w = SweepWriter(out, "coupled_vs_partitioned.csv")
     p0 = make_parameters("cylinder", values={"h_contact": args.h_contact,

@@ -1,7 +1,7 @@
 """Benchmark (issue 18): the 30-speed ball Stribeck sweep, one chain or several.
 
 The demo system (S1 figure 18: R = 1 cm, F = 1.3 N, E* = 1.6 MPa, eta = 0.1 Pa s,
-h_rms = 1 um) on the demo mesh (contact elements a_Hertz / 15), ``--points``
+h_rms = 1 um) on the demo mesh (contact elements a_Hertz / 15; ``--per-a``), ``--points``
 speeds of the 30 from 1 to 0.01 m/s (equal ratios), run as ``--chains K`` chains
 on the ranks of the ``mpirun`` (K = 1: one chain on every rank).  Recorded in
 one row of ``<out>/perf.csv``:
@@ -23,11 +23,17 @@ Run (``make bench-perf`` runs the three layouts on 2 cores)::
     scripts/dx python3 bench/perf.py --chains 1
     scripts/dx mpirun -n 2 python3 bench/perf.py --chains 1
     scripts/dx mpirun -n 2 python3 bench/perf.py --chains 2
+
+The 2-rank speed-up of one point at a/20 (``make bench-point``): the first speed
+alone, ``--points 1 --per-a 20``, on one rank and on two.  ``--solver
+FIELD=VALUE`` sets :class:`~dolfinx_seal.solvers.SNESOptions` fields for every
+solver (e.g. ``vi_linear_solve=submatrix``, PETSc's own reduced-space solve).
 """
 
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import time
 from pathlib import Path
@@ -39,12 +45,13 @@ from petsc4py import PETSc
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from solver_levers import EVENTS, _events
+from solver_levers import EVENTS, _events, solver_field
 
 from demos.ball_stribeck import parameters
-from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0, using_comm
+from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0, setup_logging, using_comm
 from dolfinx_seal.output import SweepWriter, parse_cell, read_csv
 from dolfinx_seal.scenes import make_parameters, sweep_chains, sweep_scene
+from dolfinx_seal.solvers import solver_session
 
 
 def linear_elastic_solve_time(p: Any, comm: Any, repeats: int = 3) -> tuple[float, int]:
@@ -105,18 +112,27 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=30, help="speeds of the 30 (from 1 m/s)")
     parser.add_argument("--chains", type=int, default=1)
+    parser.add_argument("--per-a", type=float, default=15.0,
+                        help="contact elements per Hertz radius (the demo mesh: 15)")  # fmt: skip
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="parameter overrides (e.g. stepping.tangent=true)")  # fmt: skip
+    parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
+                        help="SNESOptions fields for every solver (e.g. "
+                             "vi_linear_solve=submatrix)")  # fmt: skip
     parser.add_argument("--label", default="", help="name of the row (default: the layout)")
     parser.add_argument("--reference", help="sweep.csv to compare mu, h_central, h_min with")
     parser.add_argument("--out", default="bench/results/perf")
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="log every Newton step and continuation step (stderr, rank 0)")  # fmt: skip
     args = parser.parse_args(argv)
+    if args.verbose:
+        setup_logging(logging.DEBUG)
     PETSc.Log.begin()
     out = bcast_path(args.out)
     ranks = COMM_WORLD.size
     label = args.label or f"{ranks} rank(s), {args.chains} chain(s)"
     speeds = [float(v) for v in np.logspace(0.0, -2.0, 30)[: args.points]]
-    p = parameters(15.0, roughness={"h_rms": 1e-6})
+    p = parameters(args.per_a, roughness={"h_rms": 1e-6})
     if args.set:
         p = make_parameters("ball", overrides=args.set,
                             values={"h_contact": p.h_contact, "roughness": {"h_rms": 1e-6}})  # fmt: skip
@@ -127,12 +143,14 @@ def main(argv: list[str] | None = None) -> None:
         t_le, n_le = linear_elastic_solve_time(p, sub)
     t_le = COMM_WORLD.bcast(t_le, root=0)
     folder = out / label.replace(" ", "_").replace(",", "").replace("(", "").replace(")", "")
+    fields = dict(solver_field(f) for f in args.solver)
     before = _events()
     t0 = time.perf_counter()
-    if args.chains == 1:
-        sweep_scene("ball", p, folder, "film.speed", speeds, force=True)
-    else:
-        sweep_chains("ball", p, folder, "film.speed", speeds, args.chains, force=True)
+    with solver_session(**fields):
+        if args.chains == 1:
+            sweep_scene("ball", p, folder, "film.speed", speeds, force=True)
+        else:
+            sweep_chains("ball", p, folder, "film.speed", speeds, args.chains, force=True)
     wall = time.perf_counter() - t0
     after = _events()
     rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(folder / "sweep.csv")] \
@@ -146,10 +164,11 @@ def main(argv: list[str] | None = None) -> None:
         "layout": label,
         "ranks": ranks,
         "chains": args.chains,
-        "options": " ".join(args.set) or "(defaults)",
+        "options": " ".join([*args.set, *args.solver]) or "(defaults)",
         "points": len(rows),
         "points_asked": len(speeds),
         "dofs": int(rows[0]["dofs"]) if rows else 0,
+        "elements_per_a": args.per_a,
         "wall_s": wall,
         "newton_steps": ";".join(str(s) for s in steps),
         "newton_total": sum(steps),

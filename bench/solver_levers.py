@@ -72,6 +72,7 @@ SNES_FIELDS: dict[str, dict[str, Any]] = {
 EVENTS = {
     "jacobian": "SNESJacobianEval",
     "residual": "SNESFunctionEval",
+    "submatrix": "MatCreateSubMats",  # vinewtonrsls's reduced copy (1 rank), every step
     "analysis": "MatLUFactorSym",
     "factorisation": "MatLUFactorNum",
     "solve": "MatSolve",
