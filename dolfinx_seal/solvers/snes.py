@@ -989,16 +989,21 @@ class _FullPatternLU:
         self.xf: PETSc.Vec | None = None
         self.yf: PETSc.Vec | None = None
         self.analyses = 0  # work matrices factorised from scratch
+        self.nz = 0.0  # nonzeros of the Jacobian the work matrix was copied from
 
     def _inactive(self) -> PETSc.IS:
         return self.owner._snes.getVIInactiveSet()
 
     def setUp(self, pc: PETSc.PC) -> None:  # petsc4py's name
         A = self.owner.A
+        nz = A.getInfo(PETSc.Mat.InfoType.GLOBAL_SUM)["nz_used"]
+        if self.W is not None and nz != self.nz:  # the Jacobian's pattern changed
+            self.destroy()
         if self.W is None:
             self.W = A.duplicate(copy=True)
             self.W.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
             self.xf, self.yf = self.W.createVecs()
+            self.nz = nz
         else:
             A.copy(self.W, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
         rstart, rend = self.W.getOwnershipRange()
