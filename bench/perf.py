@@ -14,6 +14,8 @@ one row of ``<out>/perf.csv``:
 * the per-step profile from PETSc's event log (rank 0 of the world, its chain's
   solves): Jacobian assembly, analysis, numeric factorisation, triangular solves,
   Krylov iterations per linear solve;
+* the peak resident memory of the ranks (summed, and the largest), the whole
+  process: mesh, forms, the factorisations;
 * with ``--reference`` (a ``sweep.csv`` of the same sweep, e.g. an earlier
   solver's), the largest relative difference of mu, h_central and h_min at the
   shared speeds.
@@ -34,12 +36,14 @@ from __future__ import annotations
 
 import argparse
 import logging
+import resource
 import sys
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -178,6 +182,9 @@ def main(argv: list[str] | None = None) -> None:
         "continuation_point_le_solves": float(np.median(later)) / t_le if later else float("nan"),
         "newton_step_s": (after["jacobian"][1] - before["jacobian"][1]) / jac,
     }
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # this rank's peak [MB]
+    row["peak_rss_mb_sum"] = COMM_WORLD.allreduce(rss)
+    row["peak_rss_mb_max"] = COMM_WORLD.allreduce(rss, op=MPI.MAX)
     for key in EVENTS:
         n = max(after[key][0] - before[key][0], 1)
         row[f"{key}_count"] = after[key][0] - before[key][0]
