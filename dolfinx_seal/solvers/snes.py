@@ -1020,7 +1020,10 @@ class _FullPatternLU:
             ksp.setOperators(self.W)
             self.ksp = ksp
             self.analyses += 1
-        self.ksp.setUp()  # numeric factorisation only, after the first
+        # the first set-up analyses and factorises; after it PETSc refactorises
+        # (numerically only: one object, one pattern) inside the next solve, as the
+        # work matrix has changed, and apply() passes on a failure found there
+        self.ksp.setUp()
         failed = self.ksp.getPC().getFailedReason()
         if failed:
             pc.setFailedReason(failed)
