@@ -462,9 +462,8 @@ class NonlinearSolver:
         snes.getKSP().setFromOptions()
         pc = snes.getKSP().getPC()
         if full_pattern and pc.getType() == "python":  # not overridden on the command line
-            if self._full_lu is None:
+            if self._full_lu is None:  # its work objects are freed with the old SNES's PC
                 self._full_lu = _FullPatternLU(self, prefix)
-            self._full_lu.discard_factor()  # a new SNES: a failed factorisation is not kept
             pc.setPythonContext(self._full_lu)
         if not opts.hasName(prefix + "snes_divergence_tolerance"):
             snes.setDivergenceTolerance(o.dtol)
@@ -988,7 +987,6 @@ class _FullPatternLU:
         self.ksp: PETSc.KSP | None = None
         self.xf: PETSc.Vec | None = None
         self.yf: PETSc.Vec | None = None
-        self.analyses = 0  # work matrices factorised from scratch
         self.nz = 0.0  # nonzeros of the Jacobian the work matrix was copied from
 
     def _inactive(self) -> PETSc.IS:
@@ -1019,7 +1017,6 @@ class _FullPatternLU:
             inner.setFactorSolverType(self.owner.options.factor_solver)
             ksp.setOperators(self.W)
             self.ksp = ksp
-            self.analyses += 1
         # the first set-up analyses and factorises; after it PETSc refactorises
         # (numerically only: one object, one pattern) inside the next solve, as the
         # work matrix has changed, and apply() passes on a failure found there
