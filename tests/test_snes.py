@@ -290,6 +290,82 @@ def test_full_pattern_reduced_solve_takes_the_same_steps_with_one_analysis():
     assert an_f == 1
 
 
+def _loaded_string_on_obstacle(comm, load_value, n=200, **kw):
+    """-u'' = -load on (-1, 1), u(+-1) = 0, u >= 1/2 - x^2: the load presses the
+    string onto the obstacle; the solution is affine in ``load`` for a fixed
+    contact set."""
+    mesh = dolfinx.mesh.create_interval(comm, n, [-1.0, 1.0])
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
+    load = dolfinx.fem.Constant(mesh, load_value)
+    u = dolfinx.fem.Function(V)
+    v = ufl.TestFunction(V)
+    F = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx + load * v * ufl.dx
+    dofs = dolfinx.fem.locate_dofs_geometrical(V, lambda x: np.isclose(np.abs(x[0]), 1.0))
+    bc = dolfinx.fem.dirichletbc(0.0, dofs, V)
+    psi = dolfinx.fem.Function(V)
+    psi.interpolate(lambda x: 0.5 - x[0] ** 2)
+    return NonlinearSolver(F, u, [bc], lower=psi, **kw), u, psi, load
+
+
+def _numeric_factorisations() -> int:
+    return int(PETSc.Log.Event("MatLUFactorNum").getPerfInfo()["count"])
+
+
+def test_path_tangent_with_the_last_factorisation_equals_the_difference_quotient():
+    """``NonlinearSolver.tangent``: ``du/dload`` of the obstacle problem above.  With a
+    fixed contact set the discrete solution is affine in the load, so the
+    difference quotient of two converged solutions (load 2 and 2.002, the same
+    contact set) is the exact tangent up to the solves' tolerance.  The tangent
+    from the full-pattern solve's last factorisation and the one from a fresh
+    Jacobian and LU both equal it; the first factorises nothing (1 and 2 ranks)."""
+    PETSc.Log.begin()
+    comm = MPI.COMM_WORLD
+    solver, u, psi, load = _loaded_string_on_obstacle(comm, 2.0)
+    solver.solve()
+    n = u.function_space.dofmap.index_map.size_local
+    u1 = u.x.array[:n].copy()
+    contact1 = np.abs(u1 - psi.x.array[:n]) < 1e-10
+    # dF/dload = int v dx: the residual is affine in the load
+    F0 = solver.residual()
+    load.value = 3.0
+    dF = solver.residual()
+    dF.axpy(-1.0, F0)
+    load.value = 2.0
+    before = _numeric_factorisations()
+    t_lagged = solver.tangent(dF)
+    lagged_factorisations = _numeric_factorisations() - before
+    t_fresh = solver.tangent(dF, reuse_factorisation=False)
+    delta = 2e-3
+    load.value = 2.0 + delta
+    solver.solve()
+    u2 = u.x.array[:n].copy()
+    contact2 = np.abs(u2 - psi.x.array[:n]) < 1e-10
+    assert comm.allreduce(int(np.sum(contact1 != contact2)), MPI.SUM) == 0
+    assert comm.allreduce(int(np.sum(contact1)), MPI.SUM) > 10  # a real contact set
+    quotient = (u2 - u1) / delta
+    scale = comm.allreduce(float(np.abs(quotient).max()), MPI.MAX)
+    for t in (t_lagged, t_fresh):
+        err = comm.allreduce(float(np.abs(t.array[:n] - quotient).max()), MPI.MAX)
+        # a linear problem on a fixed contact set: each solve ends exact to round-off
+        assert err <= 1e-8 * scale, err
+        t.destroy()
+    assert lagged_factorisations == 0
+    # back at load 2 after the solve at 2.002: the kept factorisation is not this
+    # state's, so the tangent is made afresh (one factorisation) and is the same
+    load.value = 2.0
+    u.x.array[:n] = u1
+    u.x.scatter_forward()
+    before = _numeric_factorisations()
+    t_again = solver.tangent(dF)
+    assert _numeric_factorisations() - before == 1
+    err = comm.allreduce(float(np.abs(t_again.array[:n] - quotient).max()), MPI.MAX)
+    assert err <= 1e-8 * scale, err
+    t_again.destroy()
+    for vec in (F0, dF):
+        vec.destroy()
+    solver.destroy()
+
+
 def test_switching_the_vi_type_resets_the_solvers_own_options():
     """The full-pattern solve's ``pc_type python`` is the solver's own entry, not a
     command-line one: switching to ``vinewtonssls`` (which solves the full system

@@ -367,6 +367,9 @@ class NonlinearSolver:
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
         self._tangent_ksp: PETSc.KSP | None = None
+        # the unknowns of the last converged solve, while the factorisation is its own
+        self._converged_x: PETSc.Vec | None = None
+        self._factor_is_converged = False
         self._residual_scale: float | None = None
 
     # ---------------------------------------------------------------- set-up
@@ -694,6 +697,7 @@ class NonlinearSolver:
         self._floor = max(self._atol_eff, self.options.floor_rtol * self.residual_scale())
         self._fnorm0 = 0.0
         self._stall_hit = False
+        self._factor_is_converged = False  # until this solve converges
         self._from_functions(self.x)
         if self.has_bounds and self._penalty == 0.0:
             # project the start onto the bounds: VI solvers require a feasible start
@@ -767,6 +771,11 @@ class NonlinearSolver:
                 where=where,
                 history=self.history,
             )
+        if snes is self._snes:  # the factorisation of its last Newton step is kept
+            if self._converged_x is None:
+                self._converged_x = self.x.duplicate()
+            self.x.copy(self._converged_x)
+            self._factor_is_converged = True
         return self.history
 
     def solve_penalty(
@@ -820,15 +829,37 @@ class NonlinearSolver:
         return out
 
     # ------------------------------------------------------------ continuation
-    def tangent(self, dF: PETSc.Vec) -> PETSc.Vec:
+    def tangent(self, dF: PETSc.Vec, reuse_factorisation: bool = True) -> PETSc.Vec:
         """The tangent ``t`` of the solution path at the current (converged) unknowns:
         ``J t = -dF`` with ``dF`` the residual's derivative with respect to the
         continuation parameter (a vector of this solver's layout), on the rows off
-        an active bound; ``t = 0`` on the active rows (``x - F`` beyond a bound: the
-        semismooth active set), so the bounded unknowns there stay put.  A new
-        vector (the caller destroys it).  One direct solve with the Jacobian at the
-        current unknowns, by its own KSP (``<prefix>tangent_``: LU by
-        ``factor_solver``), the solver's own factorisation left as it is."""
+        an active bound; ``t = 0`` on the active rows, so the bounded unknowns there
+        stay put.  A new vector (the caller destroys it).
+
+        With ``reuse_factorisation``, a reduced-space VI solve through the full
+        pattern (``vi_linear_solve = "full_pattern"``), and the unknowns still those
+        its last solve converged to, the tangent reuses the factorisation of that
+        solve's last Newton step (its active set; the Jacobian one step before
+        convergence): two triangular solves, no assembly, no factorisation.  After
+        a failed solve, or with other unknowns, the factorisation is not theirs.
+        Otherwise one direct solve with the Jacobian
+        at the current unknowns, by its own KSP (``<prefix>tangent_``: LU by
+        ``factor_solver``) with the semismooth active set (``x - F`` beyond a
+        bound), the solver's own factorisation left as it is."""
+        lagged = self._full_lu if reuse_factorisation and self._at_converged_solve() else None
+        if (
+            lagged is not None
+            and lagged.factor() is not None
+            and lagged.factored_inactive is not None
+        ):
+            t = lagged.solve_full(dF, scale=-1.0)
+            if not np.isfinite(t.norm()):
+                t.destroy()
+                raise SolverError(
+                    "the tangent's solve with the last factorisation gave a non-finite vector",
+                    where=f"{self.name} tangent predictor",
+                )
+            return t
         F = self.residual()
         self._jacobian(self._snes, self.x, self.A, self.A)
         rhs = dF.copy()
@@ -867,6 +898,20 @@ class NonlinearSolver:
             A.destroy()
             rhs.destroy()
         return t
+
+    def _at_converged_solve(self) -> bool:
+        """Whether the unknowns are those of the last converged solve and no solve
+        has run since (so the kept factorisation is that solve's last one)."""
+        if not self._factor_is_converged or self._converged_x is None:
+            return False
+        self._from_functions(self.x)
+        diff = self.x.copy()
+        diff.axpy(-1.0, self._converged_x)
+        same = diff.norm(PETSc.NormType.NORM_INFINITY) <= 1e-14 * max(
+            self._converged_x.norm(PETSc.NormType.NORM_INFINITY), 1e-300
+        )
+        diff.destroy()
+        return same
 
     # ------------------------------------------------------------ diagnostics
     def residual(self) -> PETSc.Vec:
@@ -950,6 +995,7 @@ class NonlinearSolver:
             self._snes,
             self._snes_penalty,
             self._tangent_ksp,
+            self._converged_x,
             self.A,
             self.b,
             self.x,
@@ -988,6 +1034,7 @@ class _FullPatternLU:
         self.xf: PETSc.Vec | None = None
         self.yf: PETSc.Vec | None = None
         self.nz = 0.0  # nonzeros of the Jacobian the work matrix was copied from
+        self.factored_inactive: PETSc.IS | None = None  # the last set-up's inactive set
 
     def _inactive(self) -> PETSc.IS:
         return self.owner._snes.getVIInactiveSet()
@@ -1005,9 +1052,14 @@ class _FullPatternLU:
         else:
             A.copy(self.W, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
         rstart, rend = self.W.getOwnershipRange()
-        active = self._inactive().complement(rstart, rend)
+        inactive = self._inactive()
+        active = inactive.complement(rstart, rend)
         self.W.zeroRows(active, diag=1.0)  # collective; keeps the pattern
         active.destroy()
+        if self.factored_inactive is not None:
+            self.factored_inactive.destroy()
+        # kept: PETSc frees its own at the end of each Newton step (solve_full)
+        self.factored_inactive = inactive.duplicate()
         if self.ksp is None:
             ksp = PETSc.KSP().create(self.W.getComm())
             ksp.setType("preonly")
@@ -1038,6 +1090,30 @@ class _FullPatternLU:
         sub.copy(y)
         self.yf.restoreSubVector(inact, sub)
 
+    def solve_full(self, b: PETSc.Vec, scale: float = 1.0) -> PETSc.Vec:
+        """``y`` with ``W y = scale b`` off the last set-up's active rows and ``y = 0``
+        on them, by the current factorisation (a new vector: the caller destroys it).
+        The inactive set is the one the factorisation was made with."""
+        inact = self.factored_inactive
+        self.xf.zeroEntries()
+        src = b.getSubVector(inact)
+        dst = self.xf.getSubVector(inact)
+        src.copy(dst)
+        dst.scale(scale)
+        self.xf.restoreSubVector(inact, dst)
+        b.restoreSubVector(inact, src)
+        y = b.duplicate()
+        self.ksp.solve(self.xf, self.yf)
+        if self.ksp.getConvergedReason() < 0:
+            y.destroy()
+            raise SolverError(
+                "the tangent's triangular solves failed "
+                f"({_named(PETSc.KSP.ConvergedReason, self.ksp.getConvergedReason())})",
+                where=f"{self.owner.name} tangent predictor",
+            )
+        self.yf.copy(y)
+        return y
+
     def factor(self) -> PETSc.Mat | None:
         """The inner factor matrix (for failure reports), or None."""
         if self.ksp is None:
@@ -1057,10 +1133,10 @@ class _FullPatternLU:
         """Free the work matrix, vectors and factorisation (PETSc calls it when the
         SNES's preconditioner is destroyed; they are built again at the next set-up)."""
         self.discard_factor()
-        for obj in (self.W, self.xf, self.yf):
+        for obj in (self.W, self.xf, self.yf, self.factored_inactive):
             if obj is not None:
                 obj.destroy()
-        self.W = self.xf = self.yf = None
+        self.W = self.xf = self.yf = self.factored_inactive = None
 
 
 # ------------------------------------------------------------------ helpers
