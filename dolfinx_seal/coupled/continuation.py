@@ -55,9 +55,11 @@ class SpeedStepping:
             A converging step lowers it by decades a step; one stuck at a
             residual plateau otherwise runs on to ``max_newton``.
         tangent: With ``predictor``, start each step from the tangent of the
-            solution path instead (:func:`tangent_predictor`: one extra linear
-            solve with the Jacobian at the last converged state; also on the
-            first step, where no secant exists yet).
+            solution path instead (:func:`tangent_predictor`; also on the first
+            step, where no secant exists yet): two residuals and one linear solve,
+            by the last factorisation of the converged solve where the solver
+            keeps one (the reduced-space VI through the full pattern), else with
+            a new Jacobian and LU.
         max_failures: Stop a sweep after this many consecutive targets not
             reached (0: never); the remaining targets are recorded as not attempted.
             Walking down into boundary lubrication, the next lower target fails
@@ -80,7 +82,7 @@ class SpeedStepping:
     predictor: bool = True
     max_newton: int = 0
     stall_steps: int = 0
-    tangent: bool = False
+    tangent: bool = True
     max_failures: int = 0
     film_presolve: bool = True
     time_budget: float = 0.0
