@@ -4,7 +4,8 @@ One run, one mesh (the S1 figure-4 cylinder, ``--h-contact``), three speeds
 (boundary, mixed, hydrodynamic lubrication).  At each speed both schemes start
 from the same state, the one a Stribeck sweep step starts from: the secant
 predictor (in log speed) from the converged solutions one and half a decade lower
-(``--no-predictor``: the solution half a decade lower).  Measured: wall time and iterations of
+(``--no-predictor``: the solution half a decade lower; ``--tangent``: the
+tangent predictor from the point half a decade lower, its time counted).  Measured: wall time and iterations of
 
 * the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``), preceded, as in
   a sweep, by the film-only solve on the predicted shape (``stepping.film_presolve``;
@@ -36,7 +37,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from solver_levers import solver_field
 
 from dolfinx_seal.contact.hertz import hertz_line
-from dolfinx_seal.coupled.continuation import FilmPresolver, secant_predictor
+from dolfinx_seal.coupled.continuation import (
+    FilmPresolver,
+    path_tangent,
+    secant_predictor,
+    tangent_predictor,
+)
 from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 from dolfinx_seal.coupled.results import lubricated_results
 from dolfinx_seal.errors import SolverError
@@ -81,6 +87,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", default="bench/results")
     parser.add_argument("--no-predictor", dest="predictor", action="store_false",
                         help="start both schemes from the lower point, not the secant predictor")  # fmt: skip
+    parser.add_argument("--tangent", action="store_true",
+                        help="the tangent predictor (stepping.tangent) instead of the secant; "
+                             "its time is counted in the monolithic point's")  # fmt: skip
     parser.add_argument("--no-film-presolve", dest="film_presolve", action="store_false",
                         help="monolithic Newton without the film-only solve before it")  # fmt: skip
     parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
@@ -113,14 +122,22 @@ def run(args: argparse.Namespace) -> None:
             prob.solver.solve(where="bench start")
             history.append((math.log10(v / lower), prob.state()))
         prob.film.set_speed(v)
-        if args.predictor:  # the sweep's secant predictor (continuation.speed_sweep)
+        t_pred = 0.0
+        if args.predictor and args.tangent:  # stepping.tangent: counted in the point's time
+            t0 = time.perf_counter()
+            tangent = path_tangent(prob, v / 10**0.5)
+            tangent_predictor(prob, tangent, v)
+            tangent[1].destroy()
+            t_pred = time.perf_counter() - t0
+        elif args.predictor:  # the sweep's secant predictor (continuation.speed_sweep)
             secant_predictor(prob, history, v)
         start = prob.state()
         rows = []
         mono = {}
         for snes_type in ("vinewtonrsls", "vinewtonssls"):
             prob.restore(start)
-            prob.solver.set_snes_type(snes_type)
+            if prob.solver.options.snes_type != snes_type:  # a new SNES analyses afresh
+                prob.solver.set_snes_type(snes_type)
             prob.film.set_speed(v)
             t0 = time.perf_counter()
             film_its = presolver.solve(f"bench {snes_type}") if presolver else 0
@@ -129,7 +146,7 @@ def run(args: argparse.Namespace) -> None:
                 ok = True
             except SolverError:
                 its, ok = -1, False
-            t = time.perf_counter() - t0
+            t = time.perf_counter() - t0 + t_pred
             mono[snes_type] = (t, lubricated_results(prob)["mu"] if ok else float("nan"))
             rows.append(dict(speed=v, scheme=f"monolithic {snes_type}", relaxation=float("nan"),
                              iterations=1, newton=its, film_newton=film_its, time=t,

@@ -26,10 +26,16 @@ Run (``make bench-perf`` runs the three layouts on 2 cores)::
     scripts/dx mpirun -n 2 python3 bench/perf.py --chains 1
     scripts/dx mpirun -n 2 python3 bench/perf.py --chains 2
 
+``--set lubricated=false`` runs the dry ball at its load instead (one point; with
+``--set contact.model=stiff`` the smooth Hertz contact, which starts in a few
+Newton steps).
+
 The 2-rank speed-up of one point at a/20 (``make bench-point``): the first speed
 alone, ``--points 1 --per-a 20``, on one rank and on two.  ``--solver
 FIELD=VALUE`` sets :class:`~dolfinx_seal.solvers.SNESOptions` fields for every
-solver (e.g. ``vi_linear_solve=submatrix``, PETSc's own reduced-space solve).
+solver (e.g. ``vi_linear_solve=submatrix``, PETSc's own reduced-space solve);
+``--petsc KEY=VALUE`` gives PETSc options to every solver (e.g. MUMPS's block
+low-rank factorisation, ``mat_mumps_icntl_35=2 --petsc mat_mumps_cntl_7=1e-8``).
 """
 
 from __future__ import annotations
@@ -54,8 +60,8 @@ from solver_levers import EVENTS, _events, solver_field
 from demos.ball_stribeck import parameters
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0, setup_logging, using_comm
 from dolfinx_seal.output import SweepWriter, parse_cell, read_csv
-from dolfinx_seal.scenes import make_parameters, sweep_chains, sweep_scene
-from dolfinx_seal.solvers import solver_session
+from dolfinx_seal.scenes import make_parameters, run_scene, sweep_chains, sweep_scene
+from dolfinx_seal.solvers import extra_petsc_options, solver_session
 
 
 def linear_elastic_solve_time(p: Any, comm: Any, repeats: int = 3) -> tuple[float, int]:
@@ -123,6 +129,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
                         help="SNESOptions fields for every solver (e.g. "
                              "vi_linear_solve=submatrix)")  # fmt: skip
+    parser.add_argument("--petsc", action="append", default=[], metavar="KEY=VALUE",
+                        help="PETSc options (no prefix) for every solver, e.g. "
+                             "mat_mumps_icntl_35=2 (block low-rank)")  # fmt: skip
     parser.add_argument("--label", default="", help="name of the row (default: the layout)")
     parser.add_argument("--reference", help="sweep.csv to compare mu, h_central, h_min with")
     parser.add_argument("--out", default="bench/results/perf")
@@ -150,16 +159,25 @@ def main(argv: list[str] | None = None) -> None:
     fields = dict(solver_field(f) for f in args.solver)
     before = _events()
     t0 = time.perf_counter()
-    with solver_session(**fields):
-        if args.chains == 1:
+    petsc = dict(kv.split("=", 1) for kv in args.petsc)
+    dry = not p.lubricated
+    if dry and (args.chains != 1 or args.points != 1):
+        parser.error("lubricated=false: one dry point (--points 1 --chains 1)")
+    with solver_session(**fields), extra_petsc_options(petsc):
+        if dry:  # the dry ball at its load (no film, no speed)
+            res = run_scene("ball", p, folder, force=True)
+        elif args.chains == 1:
             sweep_scene("ball", p, folder, "film.speed", speeds, force=True)
         else:
             sweep_chains("ball", p, folder, "film.speed", speeds, args.chains, force=True)
     wall = time.perf_counter() - t0
     after = _events()
-    rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(folder / "sweep.csv")] \
-        if COMM_WORLD.rank == 0 else []  # fmt: skip
-    rows = COMM_WORLD.bcast(rows, root=0)
+    if dry:
+        rows = [{k: res[k] for k in ("dofs", "newton_iterations", "wall_time_s")}]
+    else:
+        rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(folder / "sweep.csv")] \
+            if COMM_WORLD.rank == 0 else []  # fmt: skip
+        rows = COMM_WORLD.bcast(rows, root=0)
     steps = [int(r["newton_iterations"]) for r in rows]
     times = [float(r["wall_time_s"]) for r in rows]
     later = [t for t, r in zip(times, rows, strict=True) if (r.get("continuation_steps") or 0) > 0]
@@ -168,7 +186,7 @@ def main(argv: list[str] | None = None) -> None:
         "layout": label,
         "ranks": ranks,
         "chains": args.chains,
-        "options": " ".join([*args.set, *args.solver]) or "(defaults)",
+        "options": " ".join([*args.set, *args.solver, *args.petsc]) or "(defaults)",
         "points": len(rows),
         "points_asked": len(speeds),
         "dofs": int(rows[0]["dofs"]) if rows else 0,

@@ -197,6 +197,26 @@ def test_film_presolve_changes_the_path_not_the_answer(mpi_tmp_path):
     assert with_pre["newton_iterations"] < out[False][1]["newton_iterations"]
 
 
+def test_tangent_predictor_changes_the_path_not_the_answer(mpi_tmp_path):
+    """Each continuation step starts from the tangent of the solution path
+    (``stepping.tangent``, the default, by the converged solve's own
+    factorisation) or from the secant through the last two points: the same
+    points to the coupled solve's tolerance, and the tangent needs no more Newton
+    steps after the first point (where the secant has no second point yet)."""
+    speeds = [0.03, 1.0]
+    out = {}
+    for tangent in (True, False):
+        p = make_parameters("cylinder", values={"stepping": {"tangent": tangent}})
+        rows = sweep_scene("cylinder", p, mpi_tmp_path / str(tangent), "film.speed", speeds)
+        assert len(rows) == 2
+        out[tangent] = rows
+    for k in ("mu", "h_min", "fluid_load_fraction", "x_cavitation"):
+        for a, b in zip(out[True], out[False], strict=True):
+            assert a[k] == pytest.approx(b[k], rel=1e-7), k
+    steps = {t: out[t][1]["newton_iterations"] for t in out}
+    assert steps[True] <= steps[False], steps
+
+
 def test_start_steps_barely_grow_with_the_mesh():
     """The start from the dry shape: a loose coupled solve, the film on that shape,
     then the full solve; the sideways friction shear is not capped at half an
