@@ -176,22 +176,28 @@ def test_short_stribeck_sweep_keeps_every_point(mpi_tmp_path):
         assert (mpi_tmp_path / "sweep.png").stat().st_size > 1000
 
 
+def _sweep_with_and_without(tmp, stepping_option: str) -> dict[bool, list]:
+    """The sweep 0.03 -> 1 m/s with ``stepping.<stepping_option>`` on and off; both
+    reach every point, and the points agree to the coupled solve's tolerance."""
+    out = {}
+    for on in (True, False):
+        p = make_parameters("cylinder", values={"stepping": {stepping_option: on}})
+        rows = sweep_scene("cylinder", p, tmp / str(on), "film.speed", [0.03, 1.0])
+        assert len(rows) == 2
+        out[on] = rows
+    for k in ("mu", "h_min", "fluid_load_fraction", "x_cavitation"):
+        for a, b in zip(out[True], out[False], strict=True):
+            assert a[k] == pytest.approx(b[k], rel=1e-7), k
+    return out
+
+
 def test_film_presolve_changes_the_path_not_the_answer(mpi_tmp_path):
     """The film-only solve on the predicted shape before each coupled step
     (``stepping.film_presolve``) moves the cavitation front, which the
     reduced-space VI frees one node per Newton step: the same sweep without it
     needs more coupled steps (measured at 10 um: 18 against 34 coupled steps in the
     four half-decade steps from 0.03 to 1 m/s), and both end on the same solution."""
-    speeds = [0.03, 1.0]
-    out = {}
-    for pre in (True, False):
-        p = make_parameters("cylinder", values={"stepping": {"film_presolve": pre}})
-        rows = sweep_scene("cylinder", p, mpi_tmp_path / str(pre), "film.speed", speeds)
-        assert len(rows) == 2
-        out[pre] = rows
-    for k in ("mu", "h_min", "fluid_load_fraction", "x_cavitation"):
-        for a, b in zip(out[True], out[False], strict=True):
-            assert a[k] == pytest.approx(b[k], rel=1e-7), k
+    out = _sweep_with_and_without(mpi_tmp_path, "film_presolve")
     with_pre = out[True][1]
     assert with_pre["film_presolve_iterations"] > 0
     assert with_pre["newton_iterations"] < out[False][1]["newton_iterations"]
@@ -203,16 +209,7 @@ def test_tangent_predictor_changes_the_path_not_the_answer(mpi_tmp_path):
     factorisation) or from the secant through the last two points: the same
     points to the coupled solve's tolerance, and the tangent needs no more Newton
     steps after the first point (where the secant has no second point yet)."""
-    speeds = [0.03, 1.0]
-    out = {}
-    for tangent in (True, False):
-        p = make_parameters("cylinder", values={"stepping": {"tangent": tangent}})
-        rows = sweep_scene("cylinder", p, mpi_tmp_path / str(tangent), "film.speed", speeds)
-        assert len(rows) == 2
-        out[tangent] = rows
-    for k in ("mu", "h_min", "fluid_load_fraction", "x_cavitation"):
-        for a, b in zip(out[True], out[False], strict=True):
-            assert a[k] == pytest.approx(b[k], rel=1e-7), k
+    out = _sweep_with_and_without(mpi_tmp_path, "tangent")
     steps = {t: out[t][1]["newton_iterations"] for t in out}
     assert steps[True] <= steps[False], steps
 
