@@ -842,10 +842,10 @@ class NonlinearSolver:
         solve's last Newton step (its active set; the Jacobian one step before
         convergence): two triangular solves, no assembly, no factorisation.  After
         a failed solve, or with other unknowns, the factorisation is not theirs.
-        Otherwise one direct solve with the Jacobian
-        at the current unknowns, by its own KSP (``<prefix>tangent_``: LU by
-        ``factor_solver``) with the semismooth active set (``x - F`` beyond a
-        bound), the solver's own factorisation left as it is."""
+        Otherwise one direct solve with the Jacobian at the current unknowns, by
+        its own KSP (``<prefix>tangent_``: LU by ``factor_solver``) with the
+        semismooth active set (``x - F`` beyond a bound), the solver's own
+        factorisation left as it is."""
         lagged = self._full_lu if reuse_factorisation and self._at_converged_solve() else None
         if (
             lagged is not None
@@ -1058,7 +1058,8 @@ class _FullPatternLU:
         active.destroy()
         if self.factored_inactive is not None:
             self.factored_inactive.destroy()
-        # kept: PETSc frees its own at the end of each Newton step (solve_full)
+        # a copy for solve_full: the SNES's own set belongs to the SNES, which may
+        # free or replace it once the step is over
         self.factored_inactive = inactive.duplicate()
         if self.ksp is None:
             ksp = PETSc.KSP().create(self.W.getComm())
