@@ -2,10 +2,11 @@
 
 One run, one mesh (the S1 figure-4 cylinder, ``--h-contact``), three speeds
 (boundary, mixed, hydrodynamic lubrication).  At each speed both schemes start
-from the same state, the one a Stribeck sweep step starts from: the secant
-predictor (in log speed) from the converged solutions one and half a decade lower
-(``--no-predictor``: the solution half a decade lower; ``--tangent``: the
-tangent predictor from the point half a decade lower, its time counted).  Measured: wall time and iterations of
+from the same state: the secant predictor (in log speed) from the converged
+solutions one and half a decade lower (``--tangent``: the tangent predictor from
+the point half a decade lower, a sweep's default, its time counted;
+``--no-predictor``: the solution half a decade lower).  Measured: wall time and
+iterations of
 
 * the monolithic SNES VI (``vinewtonrsls`` and ``vinewtonssls``), preceded, as in
   a sweep, by the film-only solve on the predicted shape (``stepping.film_presolve``;

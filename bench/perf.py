@@ -138,6 +138,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="log every Newton step and continuation step (stderr, rank 0)")  # fmt: skip
     args = parser.parse_args(argv)
+    if any("=" not in kv for kv in args.petsc):
+        parser.error(f"--petsc takes KEY=VALUE, got {args.petsc}")
     if args.verbose:
         setup_logging(logging.DEBUG)
     PETSc.Log.begin()
