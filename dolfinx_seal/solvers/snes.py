@@ -852,7 +852,8 @@ class NonlinearSolver:
             and lagged.factor() is not None
             and lagged.factored_inactive is not None
         ):
-            t = lagged.solve_full(dF, scale=-1.0)
+            t = lagged.solve_full(dF)
+            t.scale(-1.0)
             if not np.isfinite(t.norm()):
                 t.destroy()
                 raise SolverError(
@@ -1078,40 +1079,39 @@ class _FullPatternLU:
         if failed:
             pc.setFailedReason(failed)
 
-    def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
-        inact = self._inactive()
+    def _solve_padded(self, inact: PETSc.IS, r: PETSc.Vec) -> bool:
+        """Solve ``W yf = [r; 0]``: ``r`` (a vector of the rows in ``inact``) padded
+        with zeros on the other rows.  Whether the solve succeeded."""
         self.xf.zeroEntries()
         sub = self.xf.getSubVector(inact)
-        x.copy(sub)
+        r.copy(sub)
         self.xf.restoreSubVector(inact, sub)
         self.ksp.solve(self.xf, self.yf)
-        if self.ksp.getConvergedReason() < 0:
+        return self.ksp.getConvergedReason() >= 0
+
+    def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        inact = self._inactive()
+        if not self._solve_padded(inact, x):
             pc.setFailedReason(self.ksp.getPC().getFailedReason() or 1)
         sub = self.yf.getSubVector(inact)
         sub.copy(y)
         self.yf.restoreSubVector(inact, sub)
 
-    def solve_full(self, b: PETSc.Vec, scale: float = 1.0) -> PETSc.Vec:
-        """``y`` with ``W y = scale b`` off the last set-up's active rows and ``y = 0``
-        on them, by the current factorisation (a new vector: the caller destroys it).
+    def solve_full(self, b: PETSc.Vec) -> PETSc.Vec:
+        """``y`` with ``W y = b`` off the last set-up's active rows and ``y = 0`` on
+        them, by the current factorisation (a new vector: the caller destroys it).
         The inactive set is the one the factorisation was made with."""
         inact = self.factored_inactive
-        self.xf.zeroEntries()
-        src = b.getSubVector(inact)
-        dst = self.xf.getSubVector(inact)
-        src.copy(dst)
-        dst.scale(scale)
-        self.xf.restoreSubVector(inact, dst)
-        b.restoreSubVector(inact, src)
-        y = b.duplicate()
-        self.ksp.solve(self.xf, self.yf)
-        if self.ksp.getConvergedReason() < 0:
-            y.destroy()
+        r = b.getSubVector(inact)
+        ok = self._solve_padded(inact, r)
+        b.restoreSubVector(inact, r)
+        if not ok:
             raise SolverError(
                 "the tangent's triangular solves failed "
                 f"({_named(PETSc.KSP.ConvergedReason, self.ksp.getConvergedReason())})",
                 where=f"{self.owner.name} tangent predictor",
             )
+        y = b.duplicate()
         self.yf.copy(y)
         return y
 
