@@ -10,6 +10,11 @@
   continuation steps, time, friction torque and its parts, leakage or pumping
   rate, cavitation fraction and place, counter-gradient fraction, mass balance;
   targets not reached are in ``sweep_failures.csv``.
+* ``--solver FIELD=VALUE`` sets :class:`~dolfinx_seal.solvers.SNESOptions` fields of
+  every solver (e.g. ``factor_reuse_its=8``: a kept factorisation preconditioning
+  GMRES), ``--petsc KEY=VALUE`` PETSc options of every solver; the row gives the
+  count and time of each PETSc event (Jacobian, residual, analysis, factorisation,
+  triangular solves, Krylov) on rank 0.
 * ``levels``: the static point on several band resolutions (``--epw``, elements
   per lambda_th): leakage, torque and radial load against run time, with
   observed orders against the finest level.
@@ -34,12 +39,17 @@ import time
 from pathlib import Path
 from typing import Any
 
+from petsc4py import PETSc
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from solver_levers import EVENTS, _events, solver_field
 
 from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.params import parse_overrides
 from dolfinx_seal.scenes import lip_sector, make_parameters
+from dolfinx_seal.solvers import extra_petsc_options, solver_session
 
 KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction", "h_min",
         "max_contact_pressure", "mass_balance_error", "nodal_mass_balance_error")  # fmt: skip
@@ -61,6 +71,7 @@ def mumps_memory(solver: Any, prefix: str = "mumps") -> dict[str, float]:
 def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
     """One point: build (install + sector), dry (+ roughness), pressures (+ speed)."""
     p = make_parameters(scene, values=values)
+    before = _events()
     t0 = time.perf_counter()
     lub = lip_sector.build(p)
     t_build = time.perf_counter() - t0
@@ -88,6 +99,10 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
             "wall_time_s": time.perf_counter() - t0, **mem,
         }  # fmt: skip
         row.update({k: res[k] for k in KEYS})
+        after = _events()
+        for key in EVENTS:
+            row[f"{key}_count"] = after[key][0] - before[key][0]
+            row[f"{key}_s"] = after[key][1] - before[key][1]
     finally:
         lub.destroy()
     return row
@@ -147,7 +162,30 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--epw", type=float, nargs="+", default=[2.0, 3.0, 4.0])
     ap.add_argument("--scene", default="lip-static")
     ap.add_argument("--out", default="bench/results")
+    ap.add_argument(
+        "--solver",
+        action="append",
+        default=[],
+        metavar="FIELD=VALUE",
+        help="SNESOptions fields for every solver (e.g. factor_reuse_its=8)",
+    )
+    ap.add_argument(
+        "--petsc",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="PETSc options (no prefix) for every solver",
+    )
     a = ap.parse_args(argv)
+    if any("=" not in kv for kv in a.petsc):
+        ap.error(f"--petsc takes KEY=VALUE, got {a.petsc}")
+    PETSc.Log.begin()
+    with solver_session(**dict(solver_field(f) for f in a.solver)), \
+            extra_petsc_options(dict(kv.split("=", 1) for kv in a.petsc)):  # fmt: skip
+        return _run(a)
+
+
+def _run(a: argparse.Namespace) -> int:
     setup_logging("INFO")  # the stages and every fallback, on stderr
     out = Path(a.out)
     values = parse_overrides(a.set)
