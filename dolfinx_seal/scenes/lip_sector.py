@@ -577,13 +577,18 @@ def _set_installed(prob: SolidContactProblem, revolved: RevolvedState) -> None:
 
 
 # ---------------------------------------------------------------- solving
-#: adaptive steps of the roughness height and of the sealed pressures
-#: (a step not converged in 15 Newton steps is cut: on the default sector the accepted
-#: steps took 0 to 6, and a failed one ran 56 steps, 412 s at one rank, into a NaN;
-#: steps of at most 1/16: the steps of 1/8 the walk grew to above t = 0.5 failed five
-#: times, 52 Newton steps, where steps of 1/16 converge in a few, so the default point
-#: at two ranks took 205 s instead of 355 s, with the same results)
-ROUGHNESS_STEPS = SteppingOptions(first=1.0 / 32, grow=2.0, easy=12, max_steps=80, predictor=True,
+#: adaptive steps of the roughness height and of the sealed pressures.  On the default
+#: sector at two ranks (5 December): a first step of 1/64, growth only after at most 3
+#: Newton steps and increments of at most 1/16 bring the roughness in with no failed
+#: step (the accepted steps take 0 to 5 Newton steps), 37 Newton steps in all, the dry
+#: stage in 68-71 s.  A first step of 1/32 failed at 0.0625 (a NaN, 14 Newton steps
+#: lost); growth after up to 12 Newton steps failed three steps (18 lost, 123-132 s);
+#: steps of 1/8 above t = 0.5 failed five times (52 lost).  The results are the same
+#: to 1e-10 (leakage, torque, radial load).  A step is cut after 15 Newton steps, not
+#: fewer: where resolved asperities come into contact a Newton step closes a gap by at
+#: most half (GAP_CLOSURE), so a step needs several whatever its size (with a cut after
+#: 8, the band of 6 elements per lambda_th failed steps of 0.002 at t = 0.045).
+ROUGHNESS_STEPS = SteppingOptions(first=1.0 / 64, grow=2.0, easy=3, max_steps=80, predictor=True,
                                   max_increment=1.0 / 16, max_newton=15)  # fmt: skip
 #: Newton tolerance of the intermediate roughness steps (the last is solved to the
 #: solver's own, 1e-13: the film rows need it, the dry path does not)
