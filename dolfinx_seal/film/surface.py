@@ -448,7 +448,11 @@ class SurfaceFilm:
         tol = 1e-9 * max(hi - lo, abs(lo), abs(hi))
         low = np.flatnonzero(film & (coord < lo - tol)).astype(np.int32)
         high = np.flatnonzero(film & (coord > hi + tol)).astype(np.int32)
-        if comm.allreduce(int(low.size == 0 or high.size == 0), op=MPI.MAX):
+        # nothing beyond the zone on one side, on any rank (a rank may hold one side alone)
+        if (
+            comm.allreduce(int(low.size), op=MPI.SUM) == 0
+            or comm.allreduce(int(high.size), op=MPI.SUM) == 0
+        ):
             self.release(solvers)  # nothing to cut: the film's own conditions (after pin)
             return comm.allreduce(int(self.film_dofs_local.size), op=MPI.SUM)
         old = list(self.bcs)
