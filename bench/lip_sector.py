@@ -43,13 +43,12 @@ from petsc4py import PETSc
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from solver_levers import EVENTS, _events, solver_field
+from solver_levers import EVENTS, _events, add_solver_arguments, solver_options
 
 from dolfinx_seal.mpi import COMM_WORLD, print0, setup_logging
 from dolfinx_seal.output import SweepWriter
 from dolfinx_seal.params import parse_overrides
 from dolfinx_seal.scenes import lip_sector, make_parameters
-from dolfinx_seal.solvers import extra_petsc_options, solver_session
 
 KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction", "h_min",
         "max_contact_pressure", "mass_balance_error", "nodal_mass_balance_error")  # fmt: skip
@@ -162,26 +161,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--epw", type=float, nargs="+", default=[2.0, 3.0, 4.0])
     ap.add_argument("--scene", default="lip-static")
     ap.add_argument("--out", default="bench/results")
-    ap.add_argument(
-        "--solver",
-        action="append",
-        default=[],
-        metavar="FIELD=VALUE",
-        help="SNESOptions fields for every solver (e.g. factor_reuse_its=8)",
-    )
-    ap.add_argument(
-        "--petsc",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="PETSc options (no prefix) for every solver",
-    )
+    add_solver_arguments(ap)
     a = ap.parse_args(argv)
-    if any("=" not in kv for kv in a.petsc):
-        ap.error(f"--petsc takes KEY=VALUE, got {a.petsc}")
+    options = solver_options(ap, a)
     PETSc.Log.begin()
-    with solver_session(**dict(solver_field(f) for f in a.solver)), \
-            extra_petsc_options(dict(kv.split("=", 1) for kv in a.petsc)):  # fmt: skip
+    with options:
         return _run(a)
 
 

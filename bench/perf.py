@@ -55,13 +55,12 @@ from petsc4py import PETSc
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from solver_levers import EVENTS, _events, solver_field
+from solver_levers import EVENTS, _events, add_solver_arguments, solver_options
 
 from demos.ball_stribeck import parameters
 from dolfinx_seal.mpi import COMM_WORLD, bcast_path, print0, setup_logging, using_comm
 from dolfinx_seal.output import SweepWriter, parse_cell, read_csv
 from dolfinx_seal.scenes import make_parameters, run_scene, sweep_chains, sweep_scene
-from dolfinx_seal.solvers import extra_petsc_options, solver_session
 
 
 def linear_elastic_solve_time(p: Any, comm: Any, repeats: int = 3) -> tuple[float, int]:
@@ -126,20 +125,14 @@ def main(argv: list[str] | None = None) -> None:
                         help="contact elements per Hertz radius (the demo mesh: 15)")  # fmt: skip
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="parameter overrides (e.g. stepping.tangent=true)")  # fmt: skip
-    parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
-                        help="SNESOptions fields for every solver (e.g. "
-                             "vi_linear_solve=submatrix)")  # fmt: skip
-    parser.add_argument("--petsc", action="append", default=[], metavar="KEY=VALUE",
-                        help="PETSc options (no prefix) for every solver, e.g. "
-                             "mat_mumps_icntl_35=2 (block low-rank)")  # fmt: skip
+    add_solver_arguments(parser)
     parser.add_argument("--label", default="", help="name of the row (default: the layout)")
     parser.add_argument("--reference", help="sweep.csv to compare mu, h_central, h_min with")
     parser.add_argument("--out", default="bench/results/perf")
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="log every Newton step and continuation step (stderr, rank 0)")  # fmt: skip
     args = parser.parse_args(argv)
-    if any("=" not in kv for kv in args.petsc):
-        parser.error(f"--petsc takes KEY=VALUE, got {args.petsc}")
+    options = solver_options(parser, args)
     if args.verbose:
         setup_logging(logging.DEBUG)
     PETSc.Log.begin()
@@ -158,14 +151,12 @@ def main(argv: list[str] | None = None) -> None:
         t_le, n_le = linear_elastic_solve_time(p, sub)
     t_le = COMM_WORLD.bcast(t_le, root=0)
     folder = out / label.replace(" ", "_").replace(",", "").replace("(", "").replace(")", "")
-    fields = dict(solver_field(f) for f in args.solver)
     before = _events()
     t0 = time.perf_counter()
-    petsc = dict(kv.split("=", 1) for kv in args.petsc)
     dry = not p.lubricated
     if dry and (args.chains != 1 or args.points != 1):
         parser.error("lubricated=false: one dry point (--points 1 --chains 1)")
-    with solver_session(**fields), extra_petsc_options(petsc):
+    with options:
         if dry:  # the dry ball at its load (no film, no speed)
             res = run_scene("ball", p, folder, force=True)
         elif args.chains == 1:

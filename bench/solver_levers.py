@@ -25,6 +25,7 @@ Run:  scripts/dx python3 bench/solver_levers.py [--points 2] [--levers default m
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -97,6 +98,33 @@ def solver_field(text: str) -> tuple[str, Any]:
         except ValueError:
             pass
     return key, value
+
+
+def add_solver_arguments(parser: argparse.ArgumentParser) -> None:
+    """A bench's ``--solver FIELD=VALUE`` (:class:`~dolfinx_seal.solvers.SNESOptions`
+    fields of every solver) and ``--petsc KEY=VALUE`` (PETSc options, no prefix)."""
+    parser.add_argument("--solver", action="append", default=[], metavar="FIELD=VALUE",
+                        help="SNESOptions fields for every solver (e.g. "
+                             "vi_linear_solve=submatrix, factor_reuse_its=8)")  # fmt: skip
+    parser.add_argument("--petsc", action="append", default=[], metavar="KEY=VALUE",
+                        help="PETSc options (no prefix) for every solver, e.g. "
+                             "mat_mumps_icntl_35=2 (block low-rank)")  # fmt: skip
+
+
+def solver_options(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Any:
+    """The context of :func:`add_solver_arguments`' options (every solver built inside
+    it takes them); a ``--petsc`` entry without ``=`` is refused before anything runs."""
+    if any("=" not in kv for kv in args.petsc):
+        parser.error(f"--petsc takes KEY=VALUE, got {args.petsc}")
+    fields = dict(solver_field(f) for f in args.solver)
+    petsc = dict(kv.split("=", 1) for kv in args.petsc)
+
+    @contextlib.contextmanager
+    def options() -> Any:
+        with solver_session(**fields), extra_petsc_options(petsc):
+            yield
+
+    return options()
 
 
 def run_lever(name: str, options: dict[str, Any], speeds: list[float], out: Path) -> dict:
