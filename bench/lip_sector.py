@@ -5,8 +5,10 @@
   roughness homotopy, sealed pressures), wall time of each stage, MUMPS memory
   (INFOG(21): largest on one rank, INFOG(22): total, MB) and the results.
 * ``dynamic``: a speed sweep of ``lip-dynamic`` (six speeds by default) from one
-  sector pressurised at the fastest speed and walked down
-  (``lip_sector.sweep``): per point, in the order solved, the Newton steps,
+  sector pressurised at the slowest speed and walked up (``lip_sector.sweep``;
+  ``--set feedback=true`` for the coupled sector, the lip deformed by the film;
+  its matrix is the static point's, see its MUMPS memory there): per point, in
+  the order solved, the Newton steps,
   continuation steps, time, friction torque and its parts, leakage or pumping
   rate, cavitation fraction and place, counter-gradient fraction, mass balance;
   targets not reached are in ``sweep_failures.csv``.
@@ -116,7 +118,8 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
 
     def on_point(v: float, r: dict[str, Any]) -> None:
         now = time.perf_counter()
-        row = {"speed": v, "dimensionless_speed": r.get("dimensionless_speed"),
+        row = {"speed": v, "feedback": p.feedback,
+               "dimensionless_speed": r.get("dimensionless_speed"),
                "newton_iterations": r.get("newton_iterations"),
                "continuation_steps": r.get("continuation_steps"), "point_time_s": now - t_last[0],
                "dofs": r["dofs"], "friction_torque": r["friction_torque"],
@@ -129,7 +132,8 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
                "cavitation_divergent_fraction": r.get("cavitation_divergent_fraction", math.nan),
                "counter_gradient_fraction": r.get("counter_gradient_fraction", math.nan),
                "max_fluid_pressure": r["max_fluid_pressure"],
-               "fluid_load_fraction": r["fluid_load_fraction"],
+               "fluid_load_fraction": r["fluid_load_fraction"], "h_min": r["h_min"],
+               "radial_load": r["radial_load"],
                "mass_balance_error": r["mass_balance_error"],
                "nodal_mass_balance_error": r["nodal_mass_balance_error"]}  # fmt: skip
         t_last[0] = now

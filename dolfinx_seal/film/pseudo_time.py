@@ -26,6 +26,7 @@ for cavitating films (e.g. Elrod's algorithm marched in time).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -84,13 +85,19 @@ def element_transit_time(film: Any) -> float:
 
 
 def pseudo_transient_solve(
-    film: Any, solver: Any, where: str, options: PseudoTimeOptions | None = None
+    film: Any,
+    solver: Any,
+    where: str,
+    options: PseudoTimeOptions | None = None,
+    unknowns: Sequence[Any] | None = None,
 ) -> int:
     """Solve the steady JFO film from its current state by pseudo-time steps.
 
     ``film`` is a :class:`~dolfinx_seal.film.surface.SurfaceFilm` built with JFO and
     transport (it carries ``inv_dt`` and ``theta_old``); ``solver`` solves its
-    unknowns (e.g. ``film.make_solver``, geometry frozen).  Each step starts from
+    unknowns (e.g. ``film.make_solver``, geometry frozen), or the film with the body
+    (a coupled solver; then pass its ``unknowns``, the functions a failed step
+    restores: default the film's ``P`` and ``theta``).  Each step starts from
     the last accepted state, which is also its ``theta_old``; a failed step is
     retried shorter.  Returns the Newton steps of the accepted steps and of the
     final steady solve.  Raises :class:`SolverError` naming the pseudo-time reached
@@ -104,7 +111,7 @@ def pseudo_transient_solve(
         )
     opt = options or PseudoTimeOptions()
     t_e = element_transit_time(film)
-    unknowns = [film.P, film.theta_fn]
+    unknowns = list(unknowns) if unknowns is not None else [film.P, film.theta_fn]
 
     def save() -> list[Any]:
         return [u.x.array.copy() for u in unknowns]
