@@ -536,11 +536,13 @@ def test_coupled_two_scale_sector_slides_under_a_pressure_drop(mpi_tmp_path):
     under 0.05 MPa at the speeds of S0 fig 11 and 0.1 m/s (the scene's sweep:
     pressurised at 1e-4 m/s, walked up; at 0.1 m/s the coupled Newton cycles and
     the coupled pseudo-time converges), against the frozen sweep's first point.
-    Measured (one rank, 1e-4 to 1e-2 m/s, 142 s with the frozen point; two ranks
-    gave the same figures to 1e-10, and 0.1 m/s in 27 s):
+    Measured (one rank, the test 175 s; the same sweep at two ranks gave the same
+    figures to 1e-10):
 
     * every point converges and conserves mass: nodal balance 5.4e-9 / 5.5e-9 /
-      1.9e-8 (6.8e-9 at 0.1 m/s, two ranks), global 1.5e-9 / 3.8e-9 / 5.6e-8;
+      1.9e-8 (6.8e-9 at 0.1 m/s, two ranks), global 1.5e-9 / 3.8e-9 / 5.6e-8 /
+      3.6e-7 (at speed the edge rows carry the Couette flux along the edges, as
+      in test_sliding_sector_converges_and_conserves_mass);
     * the film carries more of the load as the speed grows: ``fluid_load_fraction``
       0.0504 / 0.0607 / 0.0682 / 0.0808;
     * S0 fig 11 as on the frozen lip: the cavitated area grows (0.301 / 0.548 /
@@ -550,8 +552,8 @@ def test_coupled_two_scale_sector_slides_under_a_pressure_drop(mpi_tmp_path):
       perturbation of the frozen film: torque -0.56 %, fluid load +1.3 % (leakage
       +8 %: the film pressure opens the constrictions that set it; not compared).
 
-    Tolerances: mass balance as the frozen sweep's test (1e-7 at one rank, 1e-4 at
-    two); torque 2 % and fluid load 5 % against the frozen point (about four times
+    Tolerances: mass balance as the frozen sliding tests (nodal 1e-7, global 1e-6 at
+    one rank; 1e-4 at two); torque 2 % and fluid load 5 % against the frozen point (about four times
     the measured coupling effect at a 5 % fluid share).
     """
     from dolfinx_seal.scenes import lip_sector
@@ -568,7 +570,7 @@ def test_coupled_two_scale_sector_slides_under_a_pressure_drop(mpi_tmp_path):
     assert [r["speed"] for r in coupled] == speeds
     for r in coupled:
         assert r["nodal_mass_balance_error"] < (1e-7 if one else 1e-4)
-        assert r["mass_balance_error"] < (1e-7 if one else 1e-4)
+        assert r["mass_balance_error"] < (1e-6 if one else 1e-4)
     share = [r["fluid_load_fraction"] for r in coupled]
     cav = [r["cavitation_fraction"] for r in coupled]
     off = [r["cavitation_axial_offset"] for r in coupled]
