@@ -307,7 +307,8 @@ class LipDynamicParameters(LipStaticParameters):
             ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
         feedback: True: the film pressure deforms the lip (the coupled sliding
             sector: each speed a frozen-film predictor on the current lip, then the
-            coupled semismooth Newton, :func:`solve_sliding`).  False: the lip is
+            coupled semismooth Newton, pseudo-time steps of the coupled film if
+            that fails, :func:`solve_sliding`).  False: the lip is
             frozen in its dry two-scale state and only the film is solved on it
             (valid while the film carries a small part of the load: see
             ``fluid_load_fraction`` and docs/scenes/lip-sector.md).
@@ -1049,7 +1050,9 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     true``): the film alone on the current lip first (:func:`solve_film` with
     ``lub.film_polish``: the film's own fallback chain finds the cavitated zones
     at the new speed), then the coupled semismooth Newton from that state (the
-    lip deforms under the film), then :func:`polish_film`.  Measured on the coarse
+    lip deforms under the film); if that fails, pseudo-time steps of the coupled
+    film from the predicted state (every unknown restored on a failed step); then
+    :func:`polish_film`.  Measured on the coarse
     two-scale sector (5.2 um band, 0.05 MPa, two ranks): from 1e-4 m/s straight to
     1e-3 m/s without the film predictor the coupled Newton ran 32 steps into a NaN;
     with it, 184 film steps (its pseudo-time fallback) and 3 coupled steps; 1e-2
