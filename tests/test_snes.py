@@ -384,6 +384,38 @@ def test_switching_the_vi_type_resets_the_solvers_own_options():
     solver.destroy()
 
 
+def test_a_switched_block_restores_the_solvers_own_type_and_options():
+    """``switched``: inside the block the other type, ``max_it`` and ``dtol`` are the
+    SNES's own (a new SNES) and the block solves; after it, also after an error
+    inside it, the options and the SNES type are the solver's again.  A field the
+    convergence test reads at each solve (``rtol``) keeps the SNES."""
+    solver, u = _string_on_obstacle(MPI.COMM_WORLD)
+    own = solver.options
+    solver.solve()
+    ref = u.x.array.copy()
+    with solver.switched(snes_type="semismooth", max_it=300, dtol=1e300):
+        assert solver.options.snes_type == "semismooth"
+        assert solver.snes.getType() == "newtonls"
+        assert solver.snes.getTolerances()[3] == 300
+        assert solver.snes.getDivergenceTolerance() == 1e300
+        u.x.array[:] = 0.0
+        h = solver.solve()
+        assert h.complementarity <= 1e-9
+        assert np.allclose(u.x.array, ref, rtol=0, atol=1e-10)
+    assert solver.options == own
+    assert solver.snes.getType() == own.snes_type
+    assert solver.snes.getTolerances()[3] == own.max_it
+    with pytest.raises(RuntimeError, match="inside"):
+        with solver.switched(snes_type="vinewtonssls"):
+            raise RuntimeError("inside")
+    assert solver.options == own and solver.snes.getType() == own.snes_type
+    snes = solver.snes
+    with solver.switched(rtol=1e-3):
+        assert solver.snes is snes and solver.options.rtol == 1e-3
+    assert solver.snes is snes and solver.options == own
+    solver.destroy()
+
+
 def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
     """factor_reuse_its: GMRES preconditioned by the first factorisation across the
     Newton steps and into a second solve (a moved obstacle, as in continuation)."""

@@ -568,12 +568,8 @@ def _loose_start(prob: Any, where: str) -> int:
     step (measured on the S1 cylinder: 15 more steps at 5 um).  Stopping there and
     moving the front with the film-only solve on the shape reached
     (:class:`FilmPresolver`) leaves the final coupled solve 2-3 steps."""
-    opts = prob.solver.options
-    prob.solver.options = dataclasses.replace(opts, rtol=START_LOOSE_RTOL)
-    try:
+    with prob.solver.switched(rtol=START_LOOSE_RTOL):
         return prob.solve_at(1.0, where=f"{where}, loose")
-    finally:
-        prob.solver.options = opts
 
 
 def film_presolve(prob: Any, where: str) -> int:

@@ -615,14 +615,8 @@ def solve_dry(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
     # roughness homotopy failed the same steps with either type, DIVERGED_FNORM_NAN
     # towards 0.094 and 0.14, and accepted 0.031, 0.047, 0.078, 0.109)
     prob.film.pin([prob.solver])
-    vi_type = prob.solver.options.snes_type
-    if vi_type != "newtonls":
-        prob.solver.set_snes_type("newtonls")
-    try:
+    with prob.solver.switched(snes_type="newtonls"):
         _dry_stages(lub, params)
-    finally:
-        if vi_type != "newtonls":
-            prob.solver.set_snes_type(vi_type)
     lub.height_scale.value = 1.0
     h_rms = params.roughness.h_rms
     free = prob.film.restrict_to_gap(params.zone_gap * h_rms, [prob.solver])
@@ -642,11 +636,11 @@ def _dry_stages(lub: SectorLip, params: LipStaticParameters) -> None:
     steps = 0
     if lub.roughness.surface is not None:
         prob.ramp_hook = lambda t: setattr(lub.height_scale, "value", t)
-        options = prob.solver.options
-        prob.solver.options = dataclasses.replace(options, rtol=max(PATH_RTOL, options.rtol))
+        rtol = max(PATH_RTOL, prob.solver.options.rtol)
         try:
             n0 = len(prob.steps)
-            prob.ramp(ROUGHNESS_STEPS)
+            with prob.solver.switched(rtol=rtol):
+                prob.ramp(ROUGHNESS_STEPS)
             rec = prob.steps[n0:]
             its += int(sum(s.newton_iterations for s in rec))
             steps = len(rec)
@@ -659,7 +653,6 @@ def _dry_stages(lub: SectorLip, params: LipStaticParameters) -> None:
             ) from e
         finally:
             prob.ramp_hook = None
-            prob.solver.options = options
         lub.height_scale.value = 1.0
         its += prob.solver.solve(where=f"{prob.name}: two-scale dry state").newton_iterations
     lub.steps.update(dry_newton_iterations=its, roughness_steps=steps)
@@ -1064,10 +1057,7 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish)
     predicted = prob.state()
     solver = prob.solver
-    saved = solver.options
-    solver.options = dataclasses.replace(saved, **COUPLED_SLIDING_TOLERANCES)
-    solver.set_snes_type("semismooth")
-    try:
+    with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_TOLERANCES):
         try:
             its += solver.solve(where=f"{where}: coupled").newton_iterations
         except SolverError as e:
@@ -1077,9 +1067,6 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
             prob.restore(predicted)
             its += pseudo_transient_solve(prob.film, solver, f"{where}: coupled",
                                           unknowns=[b[1] for b in prob.blocks])  # fmt: skip
-    finally:
-        solver.options = saved
-        solver.set_snes_type(saved.snes_type)
     return its + polish_film(lub, where)
 
 

@@ -44,6 +44,7 @@ with MUMPS.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import itertools
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -222,6 +223,11 @@ class SNESOptions:
         check_int_range("max_it", self.max_it, 1)
         check_positive("floor_rtol", self.floor_rtol)
         check_positive("dtol", self.dtol)
+
+
+#: :class:`SNESOptions` fields that a solve reads from the solver's options each time
+#: (its convergence test); the others are read when the SNES is built
+SOLVE_TIME_FIELDS = ("rtol", "atol", "stol", "floor_rtol", "monitor", "error_on_failure")
 
 
 def bounds_function(V: Any, value: float, sub: int | None = None) -> dolfinx.fem.Function:
@@ -966,6 +972,37 @@ class NonlinearSolver:
     def snes(self) -> PETSc.SNES:
         """The underlying PETSc SNES."""
         return self._snes
+
+    @contextlib.contextmanager
+    def switched(self, snes_type: str | None = None, **fields: Any) -> Iterator[None]:
+        """Another SNES type and other :class:`SNESOptions` fields inside the block;
+        the solver's own options (and SNES type) are restored on leaving it, also
+        when the block raises.
+
+        Fields read at each solve (:data:`SOLVE_TIME_FIELDS`: the tolerances of the
+        convergence test) change nothing else.  Any other change (the type, the
+        line search, ``max_it``, ``dtol``, the linear solver) builds a new SNES on
+        entry and again on exit, since the SNES reads them when it is built: its
+        first factorisation then redoes the analysis (about 0.3 s a switch on the
+        coarse lip sector)."""
+        saved = self.options
+        if snes_type is not None:
+            fields["snes_type"] = snes_type
+        new = _replace(saved, **fields)
+        rebuild = any(
+            getattr(new, f.name) != getattr(saved, f.name)
+            for f in dataclasses.fields(SNESOptions)
+            if f.name not in SOLVE_TIME_FIELDS
+        )
+        self.options = new
+        if rebuild:
+            self.set_snes_type(new.snes_type)
+        try:
+            yield
+        finally:
+            self.options = saved
+            if rebuild:
+                self.set_snes_type(saved.snes_type)
 
     @contextlib.contextmanager
     def newton_limit(self, max_newton: int, stall_steps: int = 0) -> Iterator[None]:
