@@ -416,6 +416,35 @@ def test_a_switched_block_restores_the_solvers_own_type_and_options():
     solver.destroy()
 
 
+def test_a_projected_semismooth_step_keeps_every_iterate_feasible():
+    """``project_step``: from u = 1 - x^2 (above the obstacle, no bound active) the
+    semismooth Newton's first step is the free string, u = 0, far below the
+    obstacle; projected, every iterate is on or above it, and both reach the
+    same solution."""
+    comm = MPI.COMM_WORLD
+    solutions, lowest = [], []
+    for project in (False, True):
+        solver, u = _string_on_obstacle(comm)
+        u.interpolate(lambda x: 1.0 - x[0] ** 2)
+        low = []
+
+        def record(snes, it, fnorm, solver=solver, low=low):
+            if it > 0:
+                gap = snes.getSolution().getArray(readonly=True) - solver.xl.getArray(readonly=True)
+                low.append(comm.allreduce(float(gap.min(initial=np.inf)), MPI.MIN))
+
+        with solver.switched(snes_type="semismooth", project_step=project, max_it=300):
+            solver.snes.setMonitor(record)
+            h = solver.solve()
+        assert h.complementarity <= 1e-9
+        solutions.append(u.x.array.copy())
+        lowest.append(min(low))
+        solver.destroy()
+    assert lowest[0] < -1e-3  # the test can fail: unprojected iterates go below
+    assert lowest[1] >= -1e-14
+    assert np.allclose(solutions[0], solutions[1], rtol=0, atol=1e-10)
+
+
 def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
     """factor_reuse_its: GMRES preconditioned by the first factorisation across the
     Newton steps and into a second solve (a moved obstacle, as in continuation)."""

@@ -185,6 +185,12 @@ class SNESOptions:
             [dx_I; dx_A] = [-F_I; 0]``, whose ``dx_I`` is the same step; the pattern
             never changes, so the analysis is done once per solver and only the
             numeric factorisation is repeated.
+        project_step: ``semismooth`` only: each Newton step is projected onto the
+            bounds before the line search (``x - dx`` clipped to ``[lower,
+            upper]``), so the iterates stay feasible.  Without it a node just off
+            its bound (a film fraction of 0.99999 in a coupled JFO film) can be
+            stepped far past it, where the natural residual ``x - u`` counts the
+            overshoot: the active set then cycles (docs/scenes/lip-sector.md).
         monitor: Print the residual at every Newton step (rank 0).
         error_on_failure: Raise :class:`SolverError` when SNES does not converge.
     """
@@ -203,6 +209,7 @@ class SNESOptions:
     factor_reuse_its: int = 0
     linear_rtol: float = 1e-9
     vi_linear_solve: str = "full_pattern"
+    project_step: bool = False
     monitor: bool = False
     error_on_failure: bool = True
 
@@ -465,7 +472,8 @@ class NonlinearSolver:
         if bounded and o.snes_type in _VI_TYPES:
             snes.setVariableBounds(self.xl, self.xu)
         snes.setMonitor(self._monitor)
-        if self.step_limiter is not None or self._homogenize:
+        projected = bounded and o.snes_type == "semismooth" and o.project_step
+        if self.step_limiter is not None or self._homogenize or projected:
             snes.setLineSearchPreCheck(self._precheck)
         snes.setFromOptions()
         snes.getKSP().setFromOptions()
@@ -600,6 +608,18 @@ class NonlinearSolver:
             changed = bool(np.any(arr[self._constrained] != 0.0))
             self.assembly.homogenize(arr)  # the slaves follow the masters, not the step
             del arr
+        if self._ssn and self.options.project_step:  # x - y onto the bounds
+            xa = x.getArray(readonly=True)
+            ya = y.getArray(readonly=False)
+            trial = xa - ya
+            inside = np.clip(
+                trial, self.xl.getArray(readonly=True), self.xu.getArray(readonly=True)
+            )
+            moved = trial != inside
+            if np.any(moved):
+                ya[moved] = xa[moved] - inside[moved]
+                changed = True
+            del ya
         if self.step_limiter is not None:
             s = float(self.step_limiter(x.getArray(readonly=True), y.getArray(readonly=True)))
             s = self.comm.allreduce(min(max(s, 1e-12), 1.0), op=_mpi_min())
