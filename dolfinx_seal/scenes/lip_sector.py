@@ -307,8 +307,9 @@ class LipDynamicParameters(LipStaticParameters):
             ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
         feedback: True: the film pressure deforms the lip (the coupled sliding
             sector: each speed a frozen-film predictor on the current lip, then the
-            coupled semismooth Newton, pseudo-time steps of the coupled film if
-            that fails, :func:`solve_sliding`).  False: the lip is
+            coupled semismooth Newton with projected steps, full and then
+            backtracking, pseudo-time steps of the coupled film if both fail,
+            :func:`solve_sliding`).  False: the lip is
             frozen in its dry two-scale state and only the film is solved on it
             (valid while the film carries a small part of the load: see
             ``fluid_load_fraction`` and docs/scenes/lip-sector.md).
@@ -1024,15 +1025,28 @@ def start_speed(speed: float) -> float:
     return min(speed, START_SPEED)
 
 
-#: The coupled sliding Newton (``feedback = true``) is, like the frozen film's, an
-#: active-set method whose residual is no merit function (:data:`FILM_ONLY_TOLERANCES`):
-#: measured on the coarse two-scale sector at 0.05 MPa, 1e-4 m/s, the first step from
-#: the frozen film's state went from 8.8e-6 to 0.11 (DIVERGED_DTOL at the default
-#: dtol) and the solve then converged in 3 steps with no divergence test.  The
-#: converged coupled solves measured took 3 to 10 steps (pseudo-time steps 1 to 2);
-#: a solve that has not converged in 25 is cycling and goes to the fallback (at 150,
-#: then 40, a failed solve cost 65 s, then 20 s, on the coarse band).
-COUPLED_SLIDING_TOLERANCES = {"dtol": 1e300, "max_it": 25}
+#: The coupled sliding Newton (``feedback = true``): the fixed-pattern semismooth
+#: Newton, each step projected onto the bounds (``project_step``), no divergence test,
+#: at most 25 steps; with full steps first, then with a backtracking line search
+#: (:data:`COUPLED_LINE_SEARCHES`).  Measured on the default
+#: band (2.6 um, two ranks) from the converged 4e-5 m/s point at 8e-5 m/s: the
+#: Jacobian agrees with central differences of the residual (errors falling as
+#: eps^2), and the Newton step is solved to 1e-14, yet without the projection the
+#: full step (``basic``) 2-cycles between 5.3e-6 and 3.1e-2 and ``bt`` stalls at
+#: 1.7e-6: one film node at a resolved asperity (theta = 0.99999, p = 0) is stepped
+#: to theta = 1.032, and the natural residual ``theta - 1`` of that overshoot is ten
+#: thousand times the rest.  Projected, ``basic`` still stops at 2.9e-7 in 25 steps,
+#: ``bt`` converges in 5 (7.0e-6 -> 9.5e-11).  On the coarse band ``bt`` alone
+#: failed at 1 m/s where the full steps' pseudo-time fallback converges (the fallback
+#: with ``bt`` failed its first pseudo-time step), hence full steps first.  A solve
+#: that has converged with neither goes to the pseudo-time fallback (with a cap of
+#: 150, then 40 steps, a failed solve cost 65 s, then 20 s, on the coarse band).  No divergence test: the first step from the
+#: frozen film's state may raise the residual (8.8e-6 -> 0.11 on the coarse band
+#: at 1e-4 m/s, before the line search).
+COUPLED_SLIDING_OPTIONS = {"dtol": 1e300, "max_it": 25, "project_step": True}
+#: the coupled Newton's line searches, tried in turn from the film predictor's state
+#: before the pseudo-time fallback (which takes full steps)
+COUPLED_LINE_SEARCHES = ("basic", "bt")
 
 
 def solve_sliding(lub: SectorLip, where: str) -> int:
@@ -1043,9 +1057,11 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     true``): the film alone on the current lip first (:func:`solve_film` with
     ``lub.film_polish``: the film's own fallback chain finds the cavitated zones
     at the new speed), then the coupled semismooth Newton from that state (the
-    lip deforms under the film); if that fails, pseudo-time steps of the coupled
-    film from the predicted state (every unknown restored on a failed step); then
-    :func:`polish_film`.  Measured on the coarse
+    lip deforms under the film; each step projected onto the bounds, with full
+    steps, then from the same state with a backtracking line search,
+    :data:`COUPLED_SLIDING_OPTIONS`); if both fail, pseudo-time steps of the
+    coupled film from the predicted state (every unknown restored on a failed
+    step); then :func:`polish_film`.  Measured on the coarse
     two-scale sector (5.2 um band, 0.05 MPa, two ranks): from 1e-4 m/s straight to
     1e-3 m/s without the film predictor the coupled Newton ran 32 steps into a NaN;
     with it, 184 film steps (its pseudo-time fallback) and 3 coupled steps; 1e-2
@@ -1057,14 +1073,19 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish)
     predicted = prob.state()
     solver = prob.solver
-    with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_TOLERANCES):
-        try:
-            its += solver.solve(where=f"{where}: coupled").newton_iterations
-        except SolverError as e:
-            its += e.history.newton_iterations if e.history else 0
-            get_logger().info("%s: coupled Newton from the film on the current lip failed "
-                              "(%s); pseudo-time steps of the coupled film", where, e.what)  # fmt: skip
-            prob.restore(predicted)
+    with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_OPTIONS):
+        for line_search in COUPLED_LINE_SEARCHES:
+            try:
+                with solver.switched(line_search=line_search):
+                    its += solver.solve(where=f"{where}: coupled ({line_search})").newton_iterations
+                break
+            except SolverError as e:
+                its += e.history.newton_iterations if e.history else 0
+                get_logger().info("%s: coupled Newton (%s line search) from the film on the "
+                                  "current lip failed (%s)", where, line_search, e.what)  # fmt: skip
+                prob.restore(predicted)
+        else:
+            get_logger().info("%s: pseudo-time steps of the coupled film", where)
             its += pseudo_transient_solve(prob.film, solver, f"{where}: coupled",
                                           unknowns=[b[1] for b in prob.blocks])  # fmt: skip
     return its + polish_film(lub, where)
