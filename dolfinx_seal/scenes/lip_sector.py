@@ -1028,21 +1028,20 @@ def start_speed(speed: float) -> float:
 #: The coupled sliding Newton (``feedback = true``): the fixed-pattern semismooth
 #: Newton, each step projected onto the bounds (``project_step``), no divergence test,
 #: at most 25 steps; with full steps first, then with a backtracking line search
-#: (:data:`COUPLED_LINE_SEARCHES`).  Measured on the default
-#: band (2.6 um, two ranks) from the converged 4e-5 m/s point at 8e-5 m/s: the
-#: Jacobian agrees with central differences of the residual (errors falling as
-#: eps^2), and the Newton step is solved to 1e-14, yet without the projection the
-#: full step (``basic``) 2-cycles between 5.3e-6 and 3.1e-2 and ``bt`` stalls at
-#: 1.7e-6: one film node at a resolved asperity (theta = 0.99999, p = 0) is stepped
-#: to theta = 1.032, and the natural residual ``theta - 1`` of that overshoot is ten
-#: thousand times the rest.  Projected, ``basic`` still stops at 2.9e-7 in 25 steps,
-#: ``bt`` converges in 5 (7.0e-6 -> 9.5e-11).  On the coarse band ``bt`` alone
-#: failed at 1 m/s where the full steps' pseudo-time fallback converges (the fallback
-#: with ``bt`` failed its first pseudo-time step), hence full steps first.  A solve
-#: that has converged with neither goes to the pseudo-time fallback (with a cap of
-#: 150, then 40 steps, a failed solve cost 65 s, then 20 s, on the coarse band).  No divergence test: the first step from the
-#: frozen film's state may raise the residual (8.8e-6 -> 0.11 on the coarse band
-#: at 1e-4 m/s, before the line search).
+#: (:data:`COUPLED_LINE_SEARCHES`).  Measured on the default band (2.6 um, two ranks)
+#: at 8e-5 m/s from the converged 4e-5 m/s point: the Jacobian agrees with central
+#: differences of the residual (errors falling as eps^2) and the Newton step is
+#: solved to 1e-14, yet unprojected the full step (``basic``) 2-cycles between 5.3e-6
+#: and 3.1e-2 and ``bt`` stalls at 1.7e-6: one film node at a resolved asperity
+#: (theta = 0.99999, p = 0) is stepped to theta = 1.032, and the natural residual
+#: ``theta - 1`` of that overshoot is 2e4 times the rest.  Projected, ``basic`` stops
+#: at 2.9e-7 in 25 steps and ``bt`` converges in 5 (7.0e-6 -> 9.5e-11).  On the
+#: coarse band ``bt`` alone failed at 1 m/s, where the full steps' pseudo-time
+#: fallback converges (with ``bt`` its first pseudo-time step failed), hence full
+#: steps first.  A solve that converges with neither goes to the pseudo-time
+#: fallback (with a cap of 150, then 40 steps, a failed solve cost 65 s, then 20 s,
+#: on the coarse band).  No divergence test: the first step from the frozen film's
+#: state may raise the residual (8.8e-6 -> 0.11 on the coarse band at 1e-4 m/s).
 COUPLED_SLIDING_OPTIONS = {"dtol": 1e300, "max_it": 25, "project_step": True}
 #: the coupled Newton's line searches, tried in turn from the film predictor's state
 #: before the pseudo-time fallback (which takes full steps)
