@@ -286,7 +286,8 @@ class LubricatedScene:
            speed, from the undeformed body (no Hertz guess).
 
         Each attempt starts from the state the problem was built with; once
-        ``p.stepping.time_budget`` (if set) is spent, no further attempt is made.  The
+        ``p.stepping.time_budget`` (if set) is spent, no further attempt is made,
+        and the load stepping under way stops before its next step.  The
         returned record's ``strategy`` says which attempt converged, and
         ``start_attempts`` how many were made; if none converges, the
         :class:`SolverError` names what diverged in the first attempt, then lists
@@ -354,7 +355,7 @@ class LubricatedScene:
             if spent():
                 raise SolverError(f"not attempted: the time budget of {budget:g} s was spent")
             prob.steps.clear()
-            prob.ramp()
+            prob.ramp(stop=lambda: f"the time budget of {budget:g} s was spent" if spent() else "")
             its = sum(r.newton_iterations for r in prob.steps)
             return done({"newton_iterations": its}, f"fallback: load stepping at {target:.3g} "
                         f"m/s ({len(prob.steps)} steps)")  # fmt: skip

@@ -494,12 +494,17 @@ class SolidContactProblem:
         t_start: float = 0.0,
         t_end: float = 1.0,
         on_step: Callable[[float], None] | None = None,
+        stop: Callable[[], str] | None = None,
     ) -> list[StepRecord]:
         """Adaptive stepping of the load fraction from ``t_start`` to ``t_end``.
 
+        ``stop``, asked before every step, ends the stepping with its reason (a
+        spent time budget; the same answer on every rank).
+
         Raises:
-            SolverError: the increment fell below ``min_increment``; ``partial``
-                holds the last converged fraction (the state is left there).
+            SolverError: the increment fell below ``min_increment``, or ``stop``
+                ended it; ``partial`` holds the last converged fraction (the state
+                is left there).
         """
         st = stepping or SteppingOptions()
         t0 = time.perf_counter()
@@ -519,11 +524,15 @@ class SolidContactProblem:
             on_accept=record, name=f"{self.name} load stepping",
         )  # fmt: skip
         with self.solver.newton_limit(st.max_newton):
-            res = walk.walk(t_start, t_end)
+            res = walk.walk(t_start, t_end, stop=stop)
         if res.converged:
             return self.steps
         t = res.reached
         self.set_fraction(t)
+        if res.stopped:
+            raise SolverError(f"load stepping stopped: {res.error}", where=f"{self.name}, at "
+                              f"load fraction {t:.6g}",
+                              partial={"fraction": t, "steps": list(self.steps)})  # fmt: skip
         if res.last_error is None or walk.step >= st.min_increment:
             raise SolverError(f"more than {st.max_steps} load steps", where=self.name,
                               partial={"fraction": t, "steps": list(self.steps)})  # fmt: skip

@@ -102,6 +102,7 @@ class WalkResult:
         attempts: Every step tried, in order.
         error: Why the walk stopped (empty when converged).
         last_error: The :class:`SolverError` of the last failed attempt, if any.
+        stopped: Whether the walk's ``stop`` hook ended it (``error`` says why).
     """
 
     target: float
@@ -110,6 +111,7 @@ class WalkResult:
     attempts: list[Attempt] = field(default_factory=list)
     error: str = ""
     last_error: SolverError | None = None
+    stopped: bool = False
 
     @property
     def accepted(self) -> list[Attempt]:
@@ -189,12 +191,16 @@ class AdaptiveWalk:
         """The coordinate log10 |v| of speeds of one ``sign``, with its inverse."""
         return log10_abs, lambda c: math.copysign(10.0**c, sign)
 
-    def walk(self, start: float, target: float) -> WalkResult:
+    def walk(
+        self, start: float, target: float, stop: Callable[[], str] | None = None
+    ) -> WalkResult:
         """Walk the parameter from ``start`` (the current, converged state) to ``target``.
 
         Returns the outcome; on a stop the state and the parameter are those of
         the last accepted step (``result.reached``).  Never raises for a failed
         step: the caller decides what a stop means (an error, a failed sweep point).
+        ``stop``, asked before every step, ends the walk when it returns a reason
+        (a spent time budget); it must give the same answer on every rank.
         """
         c = self.control
         log = get_logger()
@@ -211,6 +217,10 @@ class AdaptiveWalk:
                 return res
             if c.max_attempts is not None and len(res.attempts) >= c.max_attempts:
                 res.error = f"more than {c.max_attempts} steps"
+                return res
+            why = stop() if stop is not None else ""
+            if why:
+                res.error, res.stopped = why, True
                 return res
             c_try = goal if abs(dist) <= self.step else here + math.copysign(self.step, dist)
             v_try = float(target) if c_try == goal else self.from_coord(c_try)

@@ -189,3 +189,25 @@ def test_bad_step_control_is_refused_with_its_name():
         StepControl(first=1.0, cut=1.0)
     with pytest.raises(ParameterError, match="first"):
         StepControl(first=0.0)
+
+
+def test_a_stop_hook_ends_the_walk_at_the_last_accepted_state():
+    """``walk(..., stop=...)`` (a spent time budget) is asked before every step:
+    once it gives a reason the walk ends there, kept at its last accepted step,
+    with the reason and ``stopped``; a walk whose hook never fires is unchanged."""
+    prob = CubicRoot(max_it=50)
+    control = StepControl(first=0.25, grow=1.0, easy=None)
+    asked: list[int] = []
+
+    def stop() -> str:
+        asked.append(len(prob.solves))
+        return "the time budget of 1 s was spent" if len(prob.solves) >= 2 else ""
+
+    res = _walker(prob, control).walk(0.0, 1.0, stop=stop)
+    assert not res.converged and res.stopped
+    assert res.error == "the time budget of 1 s was spent"
+    assert res.reached == pytest.approx(0.5, rel=1e-12) and len(prob.solves) == 2
+    assert prob.x[0] ** 3 + prob.x[0] == pytest.approx(0.5, rel=1e-12)
+    assert asked == [0, 1, 2]
+    free = _walker(CubicRoot(max_it=50), control).walk(0.0, 1.0, stop=lambda: "")
+    assert free.converged and not free.stopped and free.steps == 4

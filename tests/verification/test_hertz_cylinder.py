@@ -132,3 +132,31 @@ def test_zero_load_is_rejected():
     with pytest.raises(ParameterError, match="nu"):
         MaterialParams(nu=0.5, formulation="compressible")
     assert np.isfinite(A_H)
+
+
+def test_load_stepping_stops_when_its_caller_says_so():
+    """``ramp(stop=...)``: a spent time budget (here: after two load steps) ends the
+    stepping before its next step with a :class:`SolverError` that says so, the
+    state kept at the last converged load fraction (a converged dry state)."""
+    from dolfinx_seal.errors import SolverError
+    from dolfinx_seal.scenes.cylinder import CYLINDER
+
+    p = make_parameters("cylinder", values={"contact": {"model": "stiff"}, "lubricated": False,
+                                            "h_contact": 20e-6})  # fmt: skip
+    prob, _ = CYLINDER.build_dry(p)
+    asked: list[int] = []
+
+    def stop() -> str:
+        asked.append(len(prob.steps))
+        return "the time budget of 1 s was spent" if len(prob.steps) >= 2 else ""
+
+    with pytest.raises(SolverError, match="load stepping stopped: the time budget") as info:
+        prob.ramp(stop=stop)
+    t = info.value.partial["fraction"]
+    # asked before every attempt, failed ones included (the first steps are cut)
+    assert len(prob.steps) == 2 and asked[-2:] == [1, 2] and asked == sorted(asked)
+    assert 0.0 < t < 1.0
+    assert prob.steps[-1].fraction == t and float(prob.load.value) == pytest.approx(t * prob.target)
+    assert "at load fraction" in info.value.where
+    # the state left is the converged one at t: one more solve there takes no step
+    assert prob.solver.solve(where="check").newton_iterations == 0
