@@ -389,18 +389,19 @@ def _safeguard_predictor(
 
 
 def reynolds_presolve(prob: Any, where: str = "") -> int:
-    """For a JFO film: solve the problem with the film fraction frozen at 1 and the
-    Reynolds condition ``p >= 0`` (``vinewtonrsls``), a start for the
-    mass-conserving solve (the semismooth JFO Newton fails from a dry state).
-    Returns the Newton steps."""
+    """For a JFO or full-Sommerfeld film: solve the problem with the film fraction
+    (JFO) frozen at 1 and the Reynolds condition ``p >= 0`` (``vinewtonrsls``), a
+    start for the mass-conserving solve (the semismooth JFO Newton fails from a
+    dry state) or the one without cavitation.  Returns the Newton steps."""
     from dolfinx_seal.solvers import NonlinearSolver, with_snes_type
 
     film = prob.film
-    theta = film.theta_fn
-    theta.x.array[:] = 1.0
+    theta = film.theta_fn if film.has_theta else None
+    if theta is not None:
+        theta.x.array[:] = 1.0
     blocks = [b for b in prob.blocks if b[1] is not theta]
     lower = [0.0 if b[1] is film.P else None for b in blocks]
-    bcs = [bc for bc in prob.bcs if bc not in film.bcs[1:]]
+    bcs = [bc for bc in prob.bcs if all(bc is not o for o in film.bcs[1:])]
     opts = with_snes_type(prob.solver.options, "vinewtonrsls")
     # the step limits for this block layout (without theta: the counter position's
     # index moves; the problem's own limiter read past the end of the vector)
@@ -470,7 +471,7 @@ def start_coupled(
     if film_guess:
         prob.set_fraction(1.0)
         its += film_presolve(prob, where)
-    if prob.film.has_theta:
+    if prob.film.params.cavitation != "reynolds":
         prob.set_fraction(1.0)
         its += reynolds_presolve(prob)
     film_start = 0
@@ -581,19 +582,35 @@ def film_presolve(prob: Any, where: str) -> int:
     first coupled Newton step of the 3D ball moves the inlet rim by hundreds of
     micrometres (the linearisation is far off), and a limited step then creeps;
     after this presolve the coupled Newton converges in 13-17 steps (measured on
-    a/15 and a/20 meshes of the S1 ball)."""
-    solver = _film_solver(prob, prob.solver.options, f"{prob.name} film start")
+    a/15 and a/20 meshes of the S1 ball).
+
+    A JFO or full-Sommerfeld film is solved here under the Reynolds condition
+    (``p >= 0``, the film fraction frozen at 1): on the frozen, Hertz-deformed
+    start shape of the ball, the JFO film stalled at a residual of 6e-2 of the
+    first (DIVERGED_LINE_SEARCH) and the full-Sommerfeld one converged only
+    linearly, its antisymmetric pressure carrying almost none of the load
+    equation's load (docs/stability.md)."""
+    reynolds = prob.film.params.cavitation != "reynolds"
+    options = prob.solver.options
+    if reynolds:
+        from dolfinx_seal.solvers import with_snes_type
+
+        if prob.film.has_theta:
+            prob.film.theta_fn.x.array[:] = 1.0
+        options = with_snes_type(options, "vinewtonrsls")
+    solver = _film_solver(prob, options, f"{prob.name} film start", reynolds_condition=reynolds)
     try:
         return solver.solve(where=f"{where}: film on the start shape").newton_iterations
     finally:
         solver.destroy()
 
 
-def _film_solver(prob: Any, options: Any, name: str) -> Any:
+def _film_solver(prob: Any, options: Any, name: str, reynolds_condition: bool = False) -> Any:
     """A solver on the film unknowns and, under force control, the counter position,
-    with the body's shape frozen."""
+    with the body's shape frozen (``reynolds_condition``: see
+    :meth:`~dolfinx_seal.film.surface.SurfaceFilm.make_solver`)."""
     pos = [b for b in prob.blocks if prob.control == "force" and b[1] is prob.position]
-    return prob.film.make_solver(options, pos, name=name)
+    return prob.film.make_solver(options, pos, name=name, reynolds_condition=reynolds_condition)
 
 
 def _ramp_flow_factor(prob: Any, where: str, min_step: float = 1.0 / 64) -> int:

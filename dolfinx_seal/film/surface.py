@@ -540,29 +540,44 @@ class SurfaceFilm:
         return self._flux_compiled
 
     def make_solver(
-        self, options: Any, extra_blocks: Sequence[Any] = (), name: str = "film"
+        self,
+        options: Any,
+        extra_blocks: Sequence[Any] = (),
+        name: str = "film",
+        *,
+        reynolds_condition: bool = False,
     ) -> Any:
         """A :class:`~dolfinx_seal.solvers.NonlinearSolver` on the film unknowns alone
         (geometry frozen), optionally with further ``(residual, unknown, lower, upper)``
-        blocks (e.g. the counter position)."""
+        blocks (e.g. the counter position).
+
+        ``reynolds_condition``: solve the pressure under ``p >= 0`` whatever the
+        cavitation model, the film fraction (JFO) left out, so frozen at its
+        current value (set it to 1 first): the start of a JFO or full-Sommerfeld
+        film (:func:`~dolfinx_seal.coupled.continuation.film_presolve`)."""
         from dolfinx_seal.solvers import NonlinearSolver, ProjectedMPCAssembly
 
-        fb = list(self.blocks) + list(extra_blocks)
+        own = list(self.blocks)
+        bcs = self.bcs
+        if reynolds_condition:
+            own = [(self.R_P, self.P, 0.0, None)]
+            bcs = self.bcs[:1]
+        fb = own + list(extra_blocks)
         lower = [b[2] for b in fb]
         upper = [b[3] for b in fb]
         bounded = any(v is not None for v in lower + upper)
         assembly = None
         if self.constraints:  # periodic: extra blocks (a real unknown) have none
-            cons = self.constraints + [None] * len(extra_blocks)
+            cons = self.constraints[: len(own)] + [None] * len(extra_blocks)
             assembly = ProjectedMPCAssembly(cons[0] if len(fb) == 1 else cons)
         if len(fb) == 1:
             return NonlinearSolver(
-                fb[0][0], fb[0][1], self.bcs, options=options, name=name,
+                fb[0][0], fb[0][1], bcs, options=options, name=name,
                 lower=lower[0] if bounded else None, upper=upper[0] if bounded else None,
                 assembly=assembly,
             )  # fmt: skip
         return NonlinearSolver(
-            [b[0] for b in fb], [b[1] for b in fb], self.bcs, options=options, name=name,
+            [b[0] for b in fb], [b[1] for b in fb], bcs, options=options, name=name,
             lower=lower if bounded else None, upper=upper if bounded else None,
             assembly=assembly,
         )  # fmt: skip

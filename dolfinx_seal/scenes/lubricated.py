@@ -147,9 +147,17 @@ class Scales:
 
 def film_snes(film: FilmParams, **options: Any) -> SNESOptions:
     """Newton options of a coupled film problem: the VI type of the cavitation model
-    (semismooth for JFO's complementarity, reduced-space for ``p >= 0``)."""
-    snes_type = "vinewtonssls" if film.cavitation == "jfo" else "vinewtonrsls"
-    return SNESOptions(max_it=60, dtol=1e12, rtol=1e-11, snes_type=snes_type, **options)
+    (reduced-space for ``p >= 0``; semismooth for JFO's complementarity, PETSc's
+    ``vinewtonssls``, or with ``jfo_projected`` this project's fixed-pattern one
+    with its steps projected onto the bounds and full steps: ``SNESOptions.project_step``)."""
+    jfo_projected = options.pop("jfo_projected", False)
+    if film.cavitation == "jfo" and jfo_projected:
+        options.update(snes_type="semismooth", project_step=True, line_search="basic")
+    else:
+        options.setdefault(
+            "snes_type", "vinewtonssls" if film.cavitation == "jfo" else "vinewtonrsls"
+        )
+    return SNESOptions(max_it=60, dtol=1e12, rtol=1e-11, **options)
 
 
 def half_decades(start: float, target: float) -> list[float]:
