@@ -71,8 +71,9 @@ class SpeedStepping:
             mesh is refined; the film-only steps that move it here cost about a
             twentieth of a coupled step.
         time_budget: Wall time of one sweep's walk [s] (0: none); once spent, the
-            targets not yet walked to are recorded as not attempted (checked before
-            each target, so the walk to the target under way finishes first).
+            walk stops before its next continuation step: the target under way is
+            recorded as failed ("stopped at ... m/s: the time budget ... was
+            spent") and the targets not yet walked to as not attempted.
     """
 
     max_decades: float = 0.5
@@ -185,12 +186,19 @@ def _walk(
     )  # fmt: skip
     failures = 0
     t_walk = time.perf_counter()
+
+    def spent() -> str:  # decided on rank 0: every rank takes the same branch
+        late = st.time_budget and prob.mesh.comm.bcast(
+            time.perf_counter() - t_walk > st.time_budget
+        )
+        return f"the time budget of {st.time_budget:g} s was spent" if late else ""
+
     for i, target in enumerate(speeds):
         note = ""
         if st.max_failures and failures >= st.max_failures:
             note = f"not attempted: stopped after {failures} consecutive failed target(s)"
-        elif st.time_budget and prob.mesh.comm.bcast(time.perf_counter() - t_walk > st.time_budget):
-            note = f"not attempted: the time budget of {st.time_budget:g} s was spent"
+        elif spent():
+            note = f"not attempted: {spent()}"
         if note:
             records += [
                 SweepRecord(speed=float(t), converged=False, error=note) for t in speeds[i:]
@@ -199,9 +207,9 @@ def _walk(
             break
         rec = SweepRecord(speed=float(target), converged=False)
         t0 = time.perf_counter()
-        res = walker.walk(float(film.speed.value), float(target))
+        res = walker.walk(float(film.speed.value), float(target), stop=spent)
         its, steps, accepted = res.newton_iterations, res.steps, list(res.accepted)
-        if not res.converged and (st.max_newton or st.stall_steps):
+        if not res.converged and not res.stopped and (st.max_newton or st.stall_steps):
             # the Newton limit buys speed on easy steps; a target it stalls is walked
             # once more from where the walk stopped, with the solver's own limit
             # (and no stall rule)
@@ -213,7 +221,7 @@ def _walk(
             # and each failure now costs the solver's full limit
             walker.step = max(RETRY_DECADES, 2.0 * st.min_decades)
             try:
-                res = walker.walk(float(film.speed.value), float(target))
+                res = walker.walk(float(film.speed.value), float(target), stop=spent)
             finally:
                 step_options[0] = st
             its, steps = its + res.newton_iterations, steps + res.steps
@@ -222,7 +230,9 @@ def _walk(
         rec.newton_iterations = its
         rec.steps = steps
         rec.intermediate = [a.value for a in accepted if a.value != float(target)]
-        if not res.converged and res.last_error is not None:
+        if res.stopped:
+            rec.error = f"stopped at {float(film.speed.value):.4g} m/s: {res.error}"
+        elif not res.converged and res.last_error is not None:
             rec.error = f"{res.last_error.what} ({res.last_error.where})"
         rec.wall_time_s = time.perf_counter() - t0
         records.append(rec)

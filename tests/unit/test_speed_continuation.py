@@ -191,3 +191,37 @@ def test_a_step_spoiled_by_the_film_presolve_is_retried_without_it(monkeypatch):
     assert [r.film_iterations for r in recs] == [14, 14]
     assert made[0].calls == 4 and made[0].destroyed
     assert prob.sol == [1e-1]
+
+
+def test_a_spent_time_budget_stops_the_walk_before_its_next_step(monkeypatch):
+    """``stepping.time_budget``: checked before every continuation step, not only
+    before each target, so a walk that creeps (the ball's failed steps cost 60
+    Newton steps, minutes each) stops once the budget is spent: the target under
+    way is recorded as stopped where it got to, the later ones as not attempted.
+    A clock that moves 1 s per solve, a budget of 2.5 s: three steps of half a
+    decade from 1e-4 m/s, then the stop."""
+    from mpi4py import MPI
+
+    from dolfinx_seal.coupled import continuation
+
+    clock = [0.0]
+    monkeypatch.setattr(continuation.time, "perf_counter", lambda: clock[0])
+    prob = _Problem(1e-4, bad=(1.0, 1.0))
+    prob.mesh = type("Mesh", (), {"comm": MPI.COMM_SELF})()
+    solve = prob.solver.solve
+
+    def timed(where: str = "") -> SolveHistory:
+        clock[0] += 1.0
+        return solve(where)
+
+    prob.solver.solve = timed
+    done: list[float] = []
+    st = SpeedStepping(predictor=False, film_presolve=False, max_decades=0.5, grow=1.0,
+                       time_budget=2.5)  # fmt: skip
+    recs = speed_sweep(prob, [1e-1, 1.0], lambda v, r: done.append(v), dict, st)
+    assert [r.converged for r in recs] == [False, False] and done == []
+    reached = 10 ** (-4 + 3 * 0.5)
+    assert prob.film.speed.value == pytest.approx(reached) and prob.sol == [prob.film.speed.value]
+    assert recs[0].error == f"stopped at {reached:.4g} m/s: the time budget of 2.5 s was spent"
+    assert recs[1].error == "not attempted: the time budget of 2.5 s was spent"
+    assert clock[0] == 3.0  # no solve after the budget was spent
