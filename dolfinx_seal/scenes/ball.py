@@ -247,12 +247,9 @@ def problem(p: BallParameters, tm: TaggedMesh, s: Scales, law: Any, film: Any,
         bcs.append(Dirichlet(tm.tag("symmetry"), component=1))
     # backtracking: with full (limited) steps, 0.03 -> 0.018 m/s (a/15) wandered and
     # jumped to a residual 4x the start at step 10; with "bt" it reached 0.01 m/s.
-    # JFO: PETSc's vinewtonssls converged only linearly from the Reynolds-condition
-    # start at 1 m/s (a/10: 0.9 per step, 60 steps); the projected semismooth Newton
-    # stalled with "bt" (DIVERGED_LINE_SEARCH at 6.6e-2) and converged with full steps
+    # (JFO: full steps, film_snes)
     lub = film is not None
-    snes = (film_snes(p.film, line_search="bt", jfo_projected=True) if lub
-            else SNESOptions(max_it=60, dtol=1e12))  # fmt: skip
+    snes = film_snes(p.film, line_search="bt") if lub else SNESOptions(max_it=60, dtol=1e12)
     limits = StepLimits(
         max_step=0.5 * p.element_size,
         max_gap_step=3.0 * law.h_rms / law.alpha if law is not None else None,  # decay lengths

@@ -146,17 +146,20 @@ class Scales:
 
 
 def film_snes(film: FilmParams, **options: Any) -> SNESOptions:
-    """Newton options of a coupled film problem: the VI type of the cavitation model
-    (reduced-space for ``p >= 0``; semismooth for JFO's complementarity, PETSc's
-    ``vinewtonssls``, or with ``jfo_projected`` this project's fixed-pattern one
-    with its steps projected onto the bounds and full steps: ``SNESOptions.project_step``)."""
-    jfo_projected = options.pop("jfo_projected", False)
-    if film.cavitation == "jfo" and jfo_projected:
+    """Newton options of a coupled film problem, by the cavitation model: the
+    reduced-space VI for ``p >= 0``; for JFO's complementarity this project's
+    fixed-pattern semismooth Newton with its steps projected onto the bounds
+    (``SNESOptions.project_step``) and full steps (``line_search`` is ignored).
+
+    Measured with PETSc's ``vinewtonssls`` before: the cylinder's JFO stability
+    case took 870 Newton steps over eight decades of speed (610 at 1e-7 m/s, by a
+    fallback start), the projected Newton 71, to the same mu and h_min; the
+    ball's JFO start at 1 m/s converged only linearly (0.9 per step) with
+    ``vinewtonssls`` and stalled with backtracking (docs/design.md)."""
+    if film.cavitation == "jfo":
         options.update(snes_type="semismooth", project_step=True, line_search="basic")
     else:
-        options.setdefault(
-            "snes_type", "vinewtonssls" if film.cavitation == "jfo" else "vinewtonrsls"
-        )
+        options.setdefault("snes_type", "vinewtonrsls")
     return SNESOptions(max_it=60, dtol=1e12, rtol=1e-11, **options)
 
 

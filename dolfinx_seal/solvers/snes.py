@@ -663,6 +663,11 @@ class NonlinearSolver:
         """
         return self._solve(self._snes, where)
 
+    def _type_name(self, snes: PETSc.SNES) -> str:
+        """The Newton's name in messages: ``semismooth`` for this project's own (a
+        PETSc ``newtonls`` underneath), PETSc's type otherwise."""
+        return "semismooth" if self._ssn else snes.getType()
+
     def _rebuild_after_petsc_error(self, snes: PETSc.SNES) -> None:
         """A PETSc error inside ``SNESSolve`` leaves vectors locked and the SNES in an
         undefined state: replace the work vector and the SNES object."""
@@ -739,7 +744,7 @@ class NonlinearSolver:
         except PETSc.Error as e:  # e.g. a factorisation failing on a non-finite matrix
             self.wall_time = time.perf_counter() - t0
             what = (
-                f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}): PETSc error {e.ierr} in the "
+                f"SNES '{snes.getOptionsPrefix()}' ({self._type_name(snes)}): PETSc error {e.ierr} in the "
                 f"linear solve after {snes.getIterationNumber()} Newton steps"
             )
             self._rebuild_after_petsc_error(snes)  # destroys ``snes``: read it before
@@ -761,7 +766,7 @@ class NonlinearSolver:
         where = where or self.name
         if reason <= 0:
             what = (
-                f"SNES '{snes.getOptionsPrefix()}' ({snes.getType()}) {self.history.reason_name} "
+                f"SNES '{snes.getOptionsPrefix()}' ({self._type_name(snes)}) {self.history.reason_name} "
                 f"after {its} Newton steps"
             )
             if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE:
