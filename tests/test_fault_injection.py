@@ -266,6 +266,17 @@ def test_a_sweep_whose_first_start_fails_starts_from_its_other_end(inject, mpi_t
         scenes.get("cylinder").sweep(p, mpi_tmp_path / "none", "film.speed", [0.4, 0.05],
                                      lambda v, r: None)  # fmt: skip
     assert "0.4 m/s" in str(info.value) and "0.05 m/s" in str(info.value)
+    # a first start that spent the time budget: the other end is not tried
+    fault.above = 0.15
+    hurried = scenes.make_parameters(
+        "cylinder", values={**RIGID, "sweep_order": "given",
+                            "stepping": {**RIGID["stepping"], "time_budget": 1e-9}},
+    )  # fmt: skip
+    with pytest.raises(SolverError, match=r"other end, 0\.05 m/s, was not attempted: the "
+                                          "time budget") as info:  # fmt: skip
+        scenes.get("cylinder").sweep(hurried, mpi_tmp_path / "hurried", "film.speed",
+                                     [0.4, 0.1, 0.05], lambda v, r: None)  # fmt: skip
+    assert re.search(REASON["nan"], str(info.value)), str(info.value)
 
 
 def test_a_target_the_newton_limit_stalls_is_walked_again_without_it(monkeypatch, mpi_tmp_path):

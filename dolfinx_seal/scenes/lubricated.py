@@ -569,7 +569,9 @@ class _Walk:
         smooth contact at boundary-lubrication speeds) still delivers every point
         the other end reaches, and the first target is recorded as not reached,
         with the start's error, unless the reverse walk gets there.  Both starts
-        failing raises :class:`SolverError` naming both."""
+        failing raises :class:`SolverError` naming both; so does a first start
+        that spent ``stepping.time_budget``, without trying the other end."""
+        t0 = time.perf_counter()
         try:
             self._start_at(todo)
             self.go_on()
@@ -579,6 +581,14 @@ class _Walk:
                 raise
             first = e
         v0, v1 = self.ordered[todo[0]], self.ordered[todo[-1]]
+        budget = float(getattr(getattr(self.p, "stepping", None), "time_budget", 0.0) or 0.0)
+        if budget and world().bcast(time.perf_counter() - t0 > budget, root=0):
+            raise SolverError(
+                f"{first.what}; the start at the other end, {v1:g} m/s, was not attempted: "
+                f"the time budget of {budget:g} s was spent",
+                where=f"{self.scene.name} sweep start at {v0:g} m/s",
+                history=first.history,
+            ) from first
         get_logger().warning(
             "%s sweep: the start at %g m/s failed (%s); starting from the other end, %g m/s, "
             "and walking back", self.scene.name, v0, first.what, v1,
