@@ -197,8 +197,8 @@ def _walk(
         note = ""
         if st.max_failures and failures >= st.max_failures:
             note = f"not attempted: stopped after {failures} consecutive failed target(s)"
-        elif spent():
-            note = f"not attempted: {spent()}"
+        elif why := spent():
+            note = f"not attempted: {why}"
         if note:
             records += [
                 SweepRecord(speed=float(t), converged=False, error=note) for t in speeds[i:]
