@@ -165,8 +165,14 @@ def _values(where: str, v: Any) -> tuple[float, ...]:
 
 
 def table_path(scene: str) -> Path:
-    """``studies/stability/SCENE.toml``."""
-    return TABLES / f"{scene}.toml"
+    """``studies/stability/SCENE.toml``, relative to the working directory when it
+    lies below it (so the messages and reports that name it read the same on
+    every machine)."""
+    path = TABLES / f"{scene}.toml"
+    try:
+        return path.relative_to(Path.cwd().resolve())
+    except ValueError:
+        return path
 
 
 def read_table(path: str | Path) -> Table:
