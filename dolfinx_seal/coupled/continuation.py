@@ -26,7 +26,7 @@ from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_nonnegative, check_positive, check_range
-from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
+from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl, TimeBudget
 
 #: The first step [decades] of a target's second walk without the Newton limit
 #: (:func:`speed_sweep`).  The first second walk of the S1 ball on a/10 began with the
@@ -185,13 +185,7 @@ def _walk(
         on_accept=lambda v, _its: progress_step(f"{prob.name} speed [m/s]", v),
     )  # fmt: skip
     failures = 0
-    t_walk = time.perf_counter()
-
-    def spent() -> str:  # decided on rank 0: every rank takes the same branch
-        late = st.time_budget and prob.mesh.comm.bcast(
-            time.perf_counter() - t_walk > st.time_budget
-        )
-        return f"the time budget of {st.time_budget:g} s was spent" if late else ""
+    spent = TimeBudget(st.time_budget, prob.mesh.comm if st.time_budget else None).spent
 
     for i, target in enumerate(speeds):
         note = ""

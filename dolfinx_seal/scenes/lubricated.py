@@ -97,6 +97,7 @@ from dolfinx_seal.scenes.common import solve_dry, write_profile
 from dolfinx_seal.solid.body import ForceControl, PositionControl
 from dolfinx_seal.solid.problem import SolidContactProblem
 from dolfinx_seal.solvers import SNESOptions
+from dolfinx_seal.solvers.adaptive import TimeBudget
 from dolfinx_seal.surface import tractions
 
 Results = dict[str, Any]
@@ -143,6 +144,13 @@ class Scales:
     def peak_gap(self, law: Any, h_rms: float) -> float:
         """The separation [m] of ``law`` at the Hertz peak (``h_rms`` without a law)."""
         return separation_of(law, self.pressure) if law is not None else h_rms
+
+
+def _time_budget(p: Any) -> TimeBudget:
+    """The budget ``p.stepping.time_budget`` [s] (none for a scene without it), on
+    the world's ranks, started now."""
+    seconds = float(getattr(getattr(p, "stepping", None), "time_budget", 0.0) or 0.0)
+    return TimeBudget(seconds, world() if seconds else None)
 
 
 def film_snes(film: FilmParams, **options: Any) -> SNESOptions:
@@ -307,6 +315,7 @@ class LubricatedScene:
         initial = prob.state()
         failures: list[tuple[str, SolverError]] = []
         t0 = time.perf_counter()
+        spent = _time_budget(p).spent
 
         def reset(speed: float) -> None:
             prob.restore(initial)
@@ -331,10 +340,6 @@ class LubricatedScene:
             failures.append((f"start at {target:g} m/s", e))
             get_logger().warning("%s: the start failed (%s); trying the fallback chain",
                                  self.name, e.what)  # fmt: skip
-        budget = float(getattr(getattr(p, "stepping", None), "time_budget", 0.0) or 0.0)
-
-        def spent() -> bool:  # decided on rank 0: every rank takes the same branch
-            return bool(budget) and world().bcast(time.perf_counter() - t0 > budget, root=0)
 
         if self.other_start is not None and not spent():
             reset(target)
@@ -363,10 +368,10 @@ class LubricatedScene:
                              SolverError(recs[-1].error, where=f"{self.name} start")))  # fmt: skip
         reset(target)
         try:
-            if spent():
-                raise SolverError(f"not attempted: the time budget of {budget:g} s was spent")
+            if why := spent():
+                raise SolverError(f"not attempted: {why}")
             prob.steps.clear()
-            prob.ramp(stop=lambda: f"the time budget of {budget:g} s was spent" if spent() else "")
+            prob.ramp(stop=spent)
             its = sum(r.newton_iterations for r in prob.steps)
             return done({"newton_iterations": its}, f"fallback: load stepping at {target:.3g} "
                         f"m/s ({len(prob.steps)} steps)")  # fmt: skip
@@ -571,7 +576,7 @@ class _Walk:
         with the start's error, unless the reverse walk gets there.  Both starts
         failing raises :class:`SolverError` naming both; so does a first start
         that spent ``stepping.time_budget``, without trying the other end."""
-        t0 = time.perf_counter()
+        spent = _time_budget(self.p).spent
         try:
             self._start_at(todo)
             self.go_on()
@@ -581,11 +586,9 @@ class _Walk:
                 raise
             first = e
         v0, v1 = self.ordered[todo[0]], self.ordered[todo[-1]]
-        budget = float(getattr(getattr(self.p, "stepping", None), "time_budget", 0.0) or 0.0)
-        if budget and world().bcast(time.perf_counter() - t0 > budget, root=0):
+        if why := spent():
             raise SolverError(
-                f"{first.what}; the start at the other end, {v1:g} m/s, was not attempted: "
-                f"the time budget of {budget:g} s was spent",
+                f"{first.what}; the start at the other end, {v1:g} m/s, was not attempted: {why}",
                 where=f"{self.scene.name} sweep start at {v0:g} m/s",
                 history=first.history,
             ) from first

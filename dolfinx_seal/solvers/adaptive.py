@@ -146,6 +146,29 @@ def secant(history: History, coordinate: float) -> list[Any]:
     return [b + r * (b - a) for a, b in zip(sa, sb, strict=True)]
 
 
+class TimeBudget:
+    """A wall-time budget, started when made: :meth:`spent` gives the reason once it
+    is spent (a ``stop`` hook of :meth:`AdaptiveWalk.walk`), decided on rank 0 of
+    ``comm`` so that every rank takes the same branch.
+
+    Args:
+        seconds: The budget [s]; 0: none (never spent, ``comm`` not used).
+        comm: The communicator of the ranks that must agree (None when ``seconds`` is 0).
+    """
+
+    def __init__(self, seconds: float, comm: Any = None) -> None:
+        self.seconds = float(seconds or 0.0)
+        self.comm = comm
+        self.t0 = time.perf_counter()
+
+    def spent(self) -> str:
+        """``"the time budget of T s was spent"``, or ``""`` while it is not."""
+        if not self.seconds:
+            return ""
+        late = self.comm.bcast(time.perf_counter() - self.t0 > self.seconds, root=0)
+        return f"the time budget of {self.seconds:g} s was spent" if late else ""
+
+
 class AdaptiveWalk:
     """An adaptive continuation in one parameter, kept between walks.
 
@@ -276,6 +299,7 @@ __all__ = [
     "AdaptiveWalk",
     "Attempt",
     "StepControl",
+    "TimeBudget",
     "WalkResult",
     "linear",
     "log10_abs",
