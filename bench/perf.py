@@ -143,7 +143,8 @@ def main(argv: list[str] | None = None) -> None:
     p = parameters(args.per_a, roughness={"h_rms": 1e-6})
     if args.set:
         p = make_parameters("ball", overrides=args.set,
-                            values={"h_contact": p.h_contact, "roughness": {"h_rms": 1e-6}})  # fmt: skip
+                            values={"h_contact": p.h_contact, "rim_refinement": p.rim_refinement,
+                                    "roughness": {"h_rms": 1e-6}})  # fmt: skip
     # the unit of cost on one chain's ranks
     color = COMM_WORLD.rank * args.chains // ranks
     sub = COMM_WORLD.Split(color, key=COMM_WORLD.rank)

@@ -23,7 +23,9 @@ lives), ``load``, ``free`` (the rest of the sphere) and, for the half ball,
 
 Mesh size: ``h_contact`` for ``sqrt(x² + y²) <= fine_extent * a`` on the
 surface, at most ``h_cap`` on the rest of the cap, growing inwards by
-``growth`` per unit distance up to ``h_far``.
+``growth`` per unit distance up to ``h_far``; optionally ``h_rim`` on the rim
+band ``rim_inner a <= sqrt(x² + y²) <= rim_outer a``, where the side lobes
+of a soft EHL film's exit constriction (and its minimum) sit.
 """
 
 from __future__ import annotations
@@ -70,6 +72,10 @@ class BallParams:
         h_contact: Element size in the finest zone (m); at most a / 4.
         h_cap: Largest element size on the contact cap (m).
         h_far: Largest element size (m); at most R / 3.
+        h_rim: Element size on the rim band (m), at most ``h_contact``; None: no
+            rim zone.
+        rim_inner: Inner radius of the rim band in units of a.
+        rim_outer: Outer radius of the rim band in units of a (< fine_extent).
         growth: Size increase per unit distance away from the surface zones (0 < growth <= 2).
         order: Geometry order of the elements, 1 or 2.
     """
@@ -83,6 +89,9 @@ class BallParams:
     h_contact: float = 0.1e-3
     h_cap: float = 0.3e-3
     h_far: float = 1.0e-3
+    h_rim: float | None = None
+    rim_inner: float = 0.8
+    rim_outer: float = 1.1
     growth: float = 0.2
     order: int = 1
 
@@ -99,6 +108,10 @@ class BallParams:
         check_range("h_contact", self.h_contact, 0.0, a / 4.0, lo_open=True, unit="m")
         check_range("h_cap", self.h_cap, self.h_contact, self.h_far, unit="m")
         check_range("h_far", self.h_far, self.h_contact, R / 3.0, unit="m")
+        if self.h_rim is not None:
+            check_range("h_rim", self.h_rim, 0.0, self.h_contact, lo_open=True, unit="m")
+        check_range("rim_inner", self.rim_inner, 0.0, self.fine_extent, lo_open=True)
+        check_range("rim_outer", self.rim_outer, self.rim_inner, self.fine_extent, lo_open=True)
         check_range("growth", self.growth, 0.0, 2.0, lo_open=True)
         check_int_range("order", self.order, 1, 2)
 
@@ -196,7 +209,12 @@ def build_ball(params: BallParams | None = None, **overrides: object) -> MeshInf
     cap = linear_size(
         p.h_cap, p.growth, f"{depth} + {pos(f'{rho} - {rc!r}')} + {pos(f'z - {zc!r}')}"
     )
-    mesh_options(p.h_contact, p.h_far, size_field_expressions([fine, cap]))
+    sizes = [fine, cap]
+    if p.h_rim is not None:
+        r_in, r_out = p.rim_inner * a, p.rim_outer * a
+        sizes.append(linear_size(p.h_rim, p.growth,
+                                 f"{depth} + {pos(f'{rho} - {r_out!r}')} + {pos(f'{r_in!r} - {rho}')}"))  # fmt: skip
+    mesh_options(min(p.h_contact, p.h_rim or p.h_contact), p.h_far, size_field_expressions(sizes))
     extra = {"cap_radius": rc, "cap_height": zc}
     return finish(KIND, p, 3, 3, groups, p.order, t0, reference(p), extra)
 

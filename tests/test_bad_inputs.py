@@ -205,6 +205,8 @@ CASES: dict[str, Case] = {
                                              ("h_contact=1e-4",)),
     "ball-mesh-coarser-than-hertz": Case("set", ("h_contact = 0.001 m (<= a_Hertz/4)", "(0, "),
                                          "ball", ("h_contact=1e-3",)),
+    "ball-rim-coarser-than-contact": Case("set", ("rim_refinement = 0.5", "[1, 4]"), "ball",
+                                          ("rim_refinement=0.5",)),
     "lip-mesh-too-coarse": Case("set", ("lip.h_contact = 0.0001 m", "(0, 5e-05]"),
                                 "lip-install", ("lip.h_contact=1e-4",)),
     "cylinder-load-beyond-small-contact": Case("set", ("load = 10000000.0 N/m", "0.3 R",

@@ -67,6 +67,14 @@ from dolfinx_seal.verification.ehl import IsoviscousElasticFilm
 
 #: Default elements per Hertz radius at the contact (:attr:`BallParameters.contact_elements`).
 CONTACT_ELEMENTS = 20.0
+#: Default of :attr:`BallParameters.rim_refinement`.  Measured (5 December, the
+#: S1 ball, 2 ranks, 0.3 and 0.1 m/s): h_min of a/20 rose from 7.072 / 3.260 um
+#: (no rim) to 7.150 / 3.398 (rim a/40), 7.178 / 3.435 (a/60, this default) and,
+#: with a/30 at the contact and the rim at a/90, 7.187 / 3.457 um; the limit,
+#: extrapolated at orders 1 to 2, is 3.475-3.50 um at 0.1 m/s, so the default's
+#: h_min is 1.2-1.9 % low there, against 6.2-6.9 % without the rim.  mu, h_central
+#: and the contact radius move by at most 0.5 %.  Unknowns 89,748 -> 195,069.
+RIM_REFINEMENT = 3.0
 START_FILM = 4.0  # central film of the start point, in h_rms
 #: Default of :attr:`BallParameters.max_start_moes`.
 MAX_START_MOES = 500.0
@@ -108,9 +116,19 @@ class BallParameters:
             (bench/mesh_defaults.py, levels 15 to 30 at 0.3 and 0.1 m/s: mu,
             h_central and the contact radius of the default within 0.4 % of a/30;
             h_min is not resolved to 2 %: -1.1 % and -3.7 % at 0.3 and 0.1 m/s,
-            and a/30 still moves 1.7 % from a/25).
+            and a/30 still moves 1.7 % from a/25, all without a rim zone:
+            ``rim_refinement`` resolves it).
         h_contact: Element size at the contact [m] (at most a_Hertz / 4); None
             (default): ``a_Hertz / contact_elements``.
+        rim_refinement: Element size at the contact over the element size on the
+            rim band ``0.8 a_Hertz <= r <= 1.1 a_Hertz`` [-] (1 to 4; 1: no rim
+            zone).  The side lobes of the exit constriction, where h_min sits, lie
+            there (r = 0.96-0.97 a_Hertz at 0.3 and 0.1 m/s), and h_min follows the
+            element size there (a/10 with an a/20 rim gives a uniform a/20's
+            h_min to 0.3 %).  The default (:data:`RIM_REFINEMENT`) puts h_min
+            within 2 % of its extrapolated limit at 0.3 and 0.1 m/s, for 2.2x the
+            unknowns of no rim (docs/scenes/ball.md, "h_min and the rim").  The
+            dry ball has no rim zone (no film, no h_min).
         mesh_order: Geometry order of the mesh: 2 puts the mid-edge nodes on the
             sphere; 1 leaves flat facets whose chord sag ``h^2 / (8 R)`` (0.1 um at
             a/20) is a few per cent of a film of microns.
@@ -148,6 +166,7 @@ class BallParameters:
     shape: str = "half"
     contact_elements: float = CONTACT_ELEMENTS
     h_contact: float | None = None
+    rim_refinement: float = RIM_REFINEMENT
     mesh_order: int = 2
     mesh_growth: float = 1.0
     degree: int = 2
@@ -174,6 +193,7 @@ class BallParameters:
         check_range(
             "h_contact", self.element_size, 0.0, a / 4.0, lo_open=True, unit="m (<= a_Hertz/4)"
         )
+        check_range("rim_refinement", self.rim_refinement, 1.0, 4.0)
         check_int_range("mesh_order", self.mesh_order, 1, 2)
         check_range("mesh_growth", self.mesh_growth, 0.0, 2.0, lo_open=True)
         check_choice("sweep_order", self.sweep_order, ("up", "down", "up-down", "given"))
@@ -229,6 +249,8 @@ def mesh(p: BallParameters, s: Scales, comm: Any) -> TaggedMesh:
     if p.lubricated:
         extra = dict(cap_extent=p.film_extent, fine_extent=min(1.5, p.film_extent - 0.1))
     h = p.element_size
+    if p.lubricated and p.rim_refinement > 1.0:  # where h_min sits
+        extra["h_rim"] = h / p.rim_refinement
     h_far = max(2 * h, p.radius / 10)
     return create_mesh(
         "ball", comm=comm, radius=p.radius, shape=p.shape, contact_radius=s.length,

@@ -420,6 +420,27 @@ def test_ball_contact_element_size():
     assert np.percentile(edge_lengths(b.x, t), 95) < 1.5 * p.h_cap
 
 
+def test_ball_rim_band_is_refined_and_the_rest_is_not():
+    base = build("ball")
+    b = build("ball", h_rim=0.15e-3)
+    p = b.info.params
+    a = p.contact_radius
+
+    def sizes(built, lo, hi):
+        t = built.groups["contact"]
+        rho = np.hypot(*built.x[t].mean(axis=1)[:, :2].T) / a
+        return edge_lengths(built.x, t[(rho > lo) & (rho < hi)])
+
+    # inside the band, away from its edges (the size grows by `growth` outside it)
+    rim = sizes(b, p.rim_inner + 0.05, p.rim_outer - 0.05)
+    assert rim.mean() == pytest.approx(p.h_rim, rel=0.2)
+    assert sizes(base, p.rim_inner + 0.05, p.rim_outer - 0.05).mean() == pytest.approx(
+        p.h_contact, rel=0.2
+    )
+    # the centre keeps h_contact
+    assert sizes(b, 0.0, 0.5).mean() == pytest.approx(p.h_contact, rel=0.2)
+
+
 def test_sector_band_element_size():
     b = build("lip-sector")
     h = b.info.extra["h_band"]
@@ -499,6 +520,9 @@ def test_sector_periodic_faces_match_node_to_node(order):
         (BallParams, {"cap_extent": 10.0}, "cap_extent"),
         (BallParams, {"height_ratio": 2.5}, "height_ratio"),
         (BallParams, {"h_far": 5e-3}, "h_far"),
+        (BallParams, {"h_rim": 0.2e-3}, "h_rim"),
+        (BallParams, {"rim_inner": 1.2, "rim_outer": 1.1}, "rim_outer"),
+        (BallParams, {"rim_outer": 2.0}, "rim_outer"),
         (LipSealParams, {"interference": 2e-3}, "interference"),
         (LipSealParams, {"oil_angle": 95.0}, "oil_angle"),
         (LipSealParams, {"air_angle": 0.0}, "air_angle"),
