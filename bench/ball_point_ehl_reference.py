@@ -163,6 +163,10 @@ def main(argv: list[str] | None = None) -> int:
             run_reference(p, sorted(args.cells), args.speeds, out)
         if not args.skip_fem:
             run_fem(p, sorted(args.levels), args.speeds, out)
+    if not (out / "reference.csv").exists():  # --skip-reference without an earlier run
+        print0(f"no report: {out / 'reference.csv'} is missing (run without --skip-reference "
+               f"once); the FEM rows are in {out / 'fem.csv'}")  # fmt: skip
+        return 1
     report(out, p)
     return 0
 
