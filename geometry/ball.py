@@ -214,7 +214,7 @@ def build_ball(params: BallParams | None = None, **overrides: object) -> MeshInf
         r_in, r_out = p.rim_inner * a, p.rim_outer * a
         sizes.append(linear_size(p.h_rim, p.growth,
                                  f"{depth} + {pos(f'{rho} - {r_out!r}')} + {pos(f'{r_in!r} - {rho}')}"))  # fmt: skip
-    mesh_options(min(p.h_contact, p.h_rim or p.h_contact), p.h_far, size_field_expressions(sizes))
+    mesh_options(p.h_rim or p.h_contact, p.h_far, size_field_expressions(sizes))
     extra = {"cap_radius": rc, "cap_height": zc}
     return finish(KIND, p, 3, 3, groups, p.order, t0, reference(p), extra)
 
