@@ -122,7 +122,7 @@ def pseudo_transient_solve(
 
     def apply(dt: float) -> None:
         film.inv_dt.value = 1.0 / dt
-        film.theta_old.x.array[:] = film.theta_fn.x.array  # the last accepted state
+        film.accept_step()  # the last accepted state is the old film (and gap)
 
     def solve(dt: float) -> int:
         return solver.solve(where=f"{where}: pseudo-time step {dt / t_e:.3g} t_e").newton_iterations

@@ -65,6 +65,7 @@ import dolfinx
 import numpy as np
 import ufl
 from mpi4py import MPI
+from ufl.algorithms import extract_coefficients
 
 from dolfinx_seal.compat import interpolation_points
 from dolfinx_seal.errors import ParameterError
@@ -341,16 +342,26 @@ class SurfaceFilm:
                     * self.ds1
                 )
             if self.has_theta:
-                # film storage d(g theta)/dt, by implicit Euler in a pseudo-time
-                # (pseudo_transient_solve); 1/dt = 0: the steady film.  Lumped (the
-                # vertex rule): a one-point storage matrix is singular for the
-                # node-to-node oscillation of theta
+                # film storage d(g theta da/dA)/dt (the oil volume per reference
+                # area), by implicit Euler in a pseudo-time (pseudo_transient_solve);
+                # 1/dt = 0: the steady film.  The old volume is the same form on
+                # copies of its functions (displacement, position): on a moving lip
+                # it holds the squeeze and stretch of the film, on a frozen one only
+                # the change of theta
                 self.inv_dt = dolfinx.fem.Constant(mesh, 0.0)  # 1/s
                 self.theta_old = dolfinx.fem.Function(self.theta_fn.function_space)
                 self.theta_old.x.array[:] = 1.0
+                volume = self.g * self.da  # m: film volume per reference area
+                self._old_functions = [
+                    (c, c.copy())
+                    for c in extract_coefficients(volume)
+                    if isinstance(c, dolfinx.fem.Function)
+                ]
+                volume_old = ufl.replace(volume, dict(self._old_functions))
+                self.film_volume = volume * self.theta_fn * self.ds1  # m^3 (times weight)
                 R += (
-                    self.inv_dt * self.g * (self.theta_fn - self.theta_old) * q
-                    * self.da * self.ds1
+                    self.inv_dt * (volume * self.theta_fn - volume_old * self.theta_old) * q
+                    * self.ds1
                 )  # fmt: skip
         self.R_P = self.row_weight * R + dolfinx.fem.Constant(mesh, 0.0) * self.P * q * dx
 
@@ -407,6 +418,13 @@ class SurfaceFilm:
         f.x.array[up] = low / self.scales.pressure
         f.x.array[down] = high / self.scales.pressure
         f.x.scatter_forward()  # the Dirichlet condition reads f at the next solve
+
+    def accept_step(self) -> None:
+        """Make the current film the old state of the next pseudo-time step
+        (``theta_old``, and the old gap and area through copies of their functions)."""
+        self.theta_old.x.array[:] = self.theta_fn.x.array
+        for current, old in self._old_functions:
+            old.x.array[:] = current.x.array
 
     def restrict_to_gap(self, max_gap: float, solvers: Sequence[Any] = ()) -> int:
         """End the lubricated zone where the current gap exceeds ``max_gap`` [m].
