@@ -172,6 +172,7 @@ CASES: dict[str, Case] = {
                                    "lip-dynamic", ("film.speed=0",)),
     "sector-sliding-feedback": Case("set", ("feedback", "true or false"),
                                     "lip-dynamic", ("feedback=2",)),
+    "sector-sliding-lift": Case("set", ("lift", "true or false"), "lip-dynamic", ("lift=2",)),
     "lip-angle": Case("set", ("lip.oil_angle = 85.0 deg", "(10, 80)"), "lip-install",
                       ("lip.oil_angle=85",)),
     "stepping-growth": Case("set", ("stepping.grow = 0.5", "[1, 4]"), "cylinder",

@@ -89,10 +89,17 @@ class ForceControl:
     Attributes:
         load: Normal force on the body [N, or N/m in plane strain].
         position0: Counter position at zero load [m] (the touching position).
+        held: The counter-surface starts held at ``position0`` (the load equation
+            replaced by ``position = position0``, as under position control) until
+            :meth:`~dolfinx_seal.solid.problem.SolidContactProblem.release_position`
+            frees it at the load it then carries: a body installed at a position
+            that then floats at that load (the sliding lip sector, which the film
+            lifts).
     """
 
     load: float
     position0: float = 0.0
+    held: bool = False
 
     kind = "force"
 

@@ -240,6 +240,8 @@ class SolidContactProblem:
             self.position = dolfinx.fem.Function(self.R, name="position")
             self.position.x.array[:] = position0
             self.load = dolfinx.fem.Constant(mesh, 0.0)
+            # 1: the position held at position0 (ForceControl.held), 0: force control
+            self.held = dolfinx.fem.Constant(mesh, 1.0 if getattr(control, "held", False) else 0.0)
             self._owns_position = self.R.dofmap.index_map.size_local > 0
             self._pos_root = mesh.comm.allreduce(
                 mesh.comm.rank if self._owns_position else mesh.comm.size, op=MPI.MIN
@@ -384,12 +386,34 @@ class SolidContactProblem:
 
     def _force_equation(self) -> Any:
         """Force control: ``int f_n mu dA - F_N / |body| int mu dx = 0`` for the position
-        unknown (the load spread over the body volume, so the form is a plain integral)."""
+        unknown (the load spread over the body volume, so the form is a plain integral).
+
+        While :attr:`held` is 1 the row is ``F_N (position - position0) / |position0|
+        = 0`` instead (the position held, the row of the size of the load at zero
+        unknowns, so the residual scale ``|F(0)|`` stays that of force control);
+        :meth:`release_position` switches to the load equation."""
         mu = ufl.TestFunction(self.R)
         vol = self.mesh.comm.allreduce(
             dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * self.dx)), op=MPI.SUM
         )
-        return self.normal_force_integrand() * mu * self.ds_c - self.load / vol * mu * self.dx
+        force = self.normal_force_integrand() * mu * self.ds_c - self.load / vol * mu * self.dx
+        if not float(self.held.value):
+            return force
+        hold = self.target / (abs(self.position0) or 1.0) * (self.position - self.position0)
+        return (1.0 - self.held) * force + self.held * hold / vol * mu * self.dx
+
+    def release_position(self) -> float:
+        """Free a held counter-surface (:attr:`ForceControl.held`) at the normal force
+        it carries now (asperities and film, [N or N/m]): from here the problem is
+        force-controlled at that load, and the current state still solves it.
+        Returns the load."""
+        if self.control != "force":
+            raise ParameterError("release_position: the problem is not force-controlled")
+        load = self.contact_force()
+        self.target = load  # what set_fraction(1) sets
+        self.load.value = load
+        self.held.value = 0.0
+        return load
 
     @property
     def constraints(self) -> list[Any] | None:

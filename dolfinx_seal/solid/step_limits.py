@@ -201,6 +201,9 @@ def surface_gap_limiter(
         fem.Expression(e, pts, comm=comm) for e in (prob.gap, *(normal[c] for c in range(gdim)))
     ]
     funcs = [fem.Function(S) for _ in exprs]
+    # force control: the counter position (the last block) moves too, and the gap
+    # (coordinate along the normal minus the position) with it
+    pos_index = _position_index(prob) if prob.control == "force" else None
 
     def limit(x: np.ndarray, dx: np.ndarray) -> float:
         for f, e in zip(funcs, exprs, strict=True):
@@ -208,6 +211,9 @@ def surface_gap_limiter(
         g = funcs[0].x.array[nodes]
         # PETSc steps x -> x - dx: the surface moves by -dx, the gap by n . (-dx)
         dg = -sum(funcs[1 + c].x.array[nodes] * dx[parents[c]] for c in range(gdim))
+        if pos_index is not None:  # and the position by -dx: the gap by +dx
+            mine = float(dx[pos_index]) if prob._owns_position else None
+            dg = dg + comm.bcast(mine, root=prob._pos_root)
         gp = np.maximum(g, 0.0)
         allowed = np.where(dg < 0.0, closure * gp, closure / (1.0 - closure) * gp)
         allowed = np.maximum(allowed, floor)
@@ -220,6 +226,15 @@ def surface_gap_limiter(
     return limit
 
 
+def _position_index(prob: Any) -> int:
+    """Local index of the counter position (the last block, force control) in the
+    solver's vector on its owning rank: after the owned entries of the other blocks."""
+    return sum(
+        b[1].function_space.dofmap.index_map.size_local * b[1].function_space.dofmap.index_map_bs
+        for b in prob.blocks[:-1]
+    )
+
+
 def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:
     """Pre-check for a rigid body under force control: one Newton step may change
     the smallest gap by at most half of itself (the film conductance ~ g^3
@@ -227,10 +242,7 @@ def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:
     _, xn = prob.surface_values(prob.counter.gap(prob.X, 0.0))
     lowest = float(xn.min())
     comm = prob.mesh.comm
-    pos_index = sum(
-        b[1].function_space.dofmap.index_map.size_local * b[1].function_space.dofmap.index_map_bs
-        for b in prob.blocks[:-1]
-    )
+    pos_index = _position_index(prob)
 
     def limit(x: np.ndarray, dx: np.ndarray) -> float:
         mine = (float(x[pos_index]), float(dx[pos_index])) if prob._owns_position else None

@@ -117,6 +117,86 @@ def test_parallel_equals_serial_copy(mpi_tmp_path):
         assert ser[k] == pytest.approx(par[k], rel=1e-6), k
 
 
+def test_a_pseudo_time_step_of_the_coupled_film_conserves_the_oil(mpi_tmp_path):
+    """The film storage of a pseudo-time step is the change of the oil volume
+    ``int g theta da`` between the old and the new deformed state, so a coupled step
+    that moves the rubber (here the load raised by half: the cylinder squeezes the
+    film) balances the oil lost against what the edges let out, to round-off.
+    Without the squeeze term (the storage ``g (theta - theta_old)`` of a frozen
+    surface) the oil the approach drives out would be missing: the outflow is
+    1e4-1e5 times the steady film's through-flow here."""
+    import dolfinx
+
+    p = make_parameters("cylinder", values={**COARSE, "film": {"speed": 1e-3, "cavitation": "jfo"}})
+    prob, _ = build_lubricated(p)
+    start_lubricated(prob, p)
+    film = prob.film
+    comm = film.ctx.mesh.comm
+    volume = dolfinx.fem.form(film.film_volume)
+
+    def oil() -> float:  # [m^3 per m of cylinder]
+        return comm.allreduce(dolfinx.fem.assemble_scalar(volume), op=MPI.SUM)
+
+    steady = abs(film.edge_flows()[0])
+    v0, steady_state = oil(), prob.state()
+    lost = []
+    for dt in (1e-4, 1e-2):  # [s]
+        film.accept_step()
+        film.inv_dt.value = 1.0 / dt
+        prob.load.value *= 1.5
+        try:
+            prob.solver.solve(where=f"squeeze, dt = {dt} s")
+            rate = (v0 - oil()) / dt  # [m^2/s]
+            out = sum(film.edge_flows())
+        finally:
+            prob.load.value /= 1.5
+            film.inv_dt.value = 0.0
+            prob.restore(steady_state)
+        assert out == pytest.approx(rate, rel=1e-9, abs=1e-9 * steady)
+        assert rate > 1e3 * steady  # the squeeze, not the through-flow
+        lost.append(rate * dt)
+    # the longer step lets the film come closer to the new steady state
+    assert lost[1] > lost[0] > 0
+
+
+def test_a_held_force_control_is_position_control_until_released():
+    """``ForceControl(held=True)``: the counter position is held (the load equation
+    replaced by ``position = position0``) until ``release_position`` frees it at the
+    load it then carries, the state still a solution.  Reference: the same point
+    under plain force control (its position held, its state copied in)."""
+    from dolfinx_seal.errors import ParameterError
+    from dolfinx_seal.scenes.cylinder import CYLINDER
+    from dolfinx_seal.solid.body import ForceControl
+
+    p = make_parameters("cylinder", values={**COARSE, "film": {"speed": 1e-2}})
+    free, _ = build_lubricated(p)
+    start_lubricated(free, p)
+    ref = lubricated_results(free)
+    s = CYLINDER.scales(p)
+    law, _ = CYLINDER._law(p, s)
+    tm = CYLINDER.mesh(p, s, COMM_WORLD)
+    control = ForceControl(p.load / s.symmetry_factor, ref["counter_position"], held=True)
+    held = CYLINDER.problem(p, tm, s, law, CYLINDER.film(p, tm, s, law), control)
+    held.set_fraction(1.0)
+    copy_coupled_state(free, held)
+    held.position.x.array[:] = ref["counter_position"]
+    held.load.value = 0.5 * control.load  # no part in the held row
+    assert held.solver.solve(where="held").newton_iterations <= 2
+    assert held.counter_position() == pytest.approx(ref["counter_position"], abs=1e-15)
+    assert held.contact_force() == pytest.approx(free.contact_force(), rel=1e-6)
+    load = held.release_position()
+    assert load == pytest.approx(free.contact_force(), rel=1e-6)
+    assert held.solver.solve(where="released").newton_iterations <= 1
+    assert held.counter_position() == pytest.approx(ref["counter_position"], abs=1e-12)
+    held.load.value = 1.1 * load  # now the load moves the flat
+    held.solver.solve(where="released, 10 % more load")
+    assert held.contact_force() == pytest.approx(1.1 * load, rel=1e-8)
+    assert held.counter_position() != pytest.approx(ref["counter_position"], abs=1e-9)
+    fixed, _ = build_lubricated(p, position=ref["counter_position"])
+    with pytest.raises(ParameterError, match="not force-controlled"):
+        fixed.release_position()
+
+
 def _build(**values):
     p = make_parameters("cylinder", values={**COARSE, **values})
     prob, _ = build_lubricated(p)
