@@ -66,6 +66,12 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "real_contact_area": ("m^2 (m in plane strain)", "real (asperity) contact area", False),
     "cavitation_fraction": ("-", "cavitated fraction of the lubricated zone", False),
     "max_fluid_pressure": ("Pa", "peak fluid pressure", False),
+    "floored_area_fraction": (
+        "-", "share of the lubricated zone whose gap is at its floor (film.gap_floor)", False,
+    ),
+    "floored_fluid_load_fraction": (
+        "-", "share of the fluid load carried where the gap is at its floor", False,
+    ),
     "max_contact_pressure": ("Pa", "peak asperity contact pressure", True),
     "leakage_rate": ("m^3/s", "volume flow through the seal", True),
     "friction_torque": ("N m", "friction torque on the shaft", True),

@@ -119,8 +119,11 @@ class FilmParams:
             gap then decouples odd and even nodes (a node-to-node wiggle of the
             film and the pressure).
         gap_floor: Smallest gap used in the film coefficients, in units of
-            h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates; a
-            converged Persson solution never reaches it).
+            h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates).  A
+            smooth surface's converged film stays above it; resolved crests
+            (the two-scale lip sector) can sit below it, where the floor, not
+            the gap, sets the film: ``floored_area_fraction`` and
+            ``floored_fluid_load_fraction`` say how much (docs/scenes/lip-sector.md).
     """
 
     viscosity: float = 0.1
@@ -274,7 +277,8 @@ class SurfaceFilm:
         self.da = ufl.sqrt(ufl.dot(nanson, nanson)) * ctx.weight  # da / dA
         self.n = nanson / ufl.sqrt(ufl.dot(nanson, nanson))
         self.scale = ctx.roughness_scale  # homogenised roughness amplitude (homotopy)
-        self.g = ufl.max_value(ctx.gap, pr.gap_floor * self.h_rms * self.scale)
+        self.floor = pr.gap_floor * self.h_rms * self.scale  # [m]
+        self.g = ufl.max_value(ctx.gap, self.floor)
         phi_p = pressure_flow_factor(
             pr.flow_factor, self.g, self.h_rms * self.scale, self.flow_table, self.scale
         )
@@ -742,6 +746,11 @@ class SurfaceFilm:
         tau = self.shear_on_rubber()
         w += tau * ufl.dot(self.t, v3) * self.da * self.ds
         return -w
+
+    def floored(self) -> Any:
+        """1 where the gap is at or below its floor (``film.gap_floor h_rms``), else 0
+        (UFL): where the film's coefficients are the floor's, not the gap's."""
+        return ufl.conditional(ufl.le(self.ctx.gap, self.floor), 1.0, 0.0)
 
     def normal_force_integrand(self) -> Any:
         """Fluid force on the body along the counter normal, per reference area [Pa]."""

@@ -858,6 +858,8 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
     real = prob.integrate(A * film.da, ds) * n
     nominal = 2.0 * math.pi * R_s * width
     band_area = prob.integrate(film.da, ds) * n
+    floored = film.floored()
+    floored_load = prob.integrate(floored * film.normal_force_integrand(), ds) * n
     parts = {k: prob.integrate(v, ds) * n for k, v in film.friction_parts().items()}
     torque = R_s * sum(parts.values())
     out: dict[str, Any] = {
@@ -879,6 +881,8 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         "h_min": float(gap.min()),
         "mean_separation": prob.integrate(film.g * film.da, ds) * n / band_area,
         "max_fluid_pressure": float(p.max()),
+        "floored_area_fraction": prob.integrate(floored * film.da, ds) * n / band_area,
+        "floored_fluid_load_fraction": floored_load / load_fluid if load_fluid else 0.0,
         "max_contact_pressure": float(pc.max()),
         "real_contact_area": real,
         "contact_area_fraction": real / nominal,
