@@ -22,7 +22,7 @@ demo-ball:  ## the former main demo: a short ball Stribeck sweep (writes into re
 MPI3_TESTS ?= tests/test_snes.py tests/test_meshing.py tests/test_fault_injection.py tests/test_chains.py \
 	tests/verification/test_periodic_vi.py tests/verification/test_obstacle_2d.py \
 	tests/verification/test_reynolds_rigid.py tests/verification/test_film_cavitation.py \
-	tests/test_projected_mpc.py
+	tests/test_projected_mpc.py tests/unit/test_film_upwinding.py
 
 test: test-dx-paths test-serial test-mpi test-mpi3  ## the suite serially (on $(XDIST) workers) and under mpirun -n $(NP); its MPI core under -n $(NP3)
 

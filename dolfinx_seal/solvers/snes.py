@@ -372,6 +372,11 @@ class NonlinearSolver:
         if self._ssn:  # identity rows written into the assembled pattern
             self.A.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
         self._diag = self.b.duplicate()
+        # an algebraic term ``M x`` added to the residual (``M`` to the Jacobian), in
+        # the solver's layout, its pattern within the Jacobian's (e.g. the film's
+        # discrete upwinding, :mod:`dolfinx_seal.film.upwinding`); destroyed with
+        # the solver
+        self.linear_term: PETSc.Mat | None = None
         self._extra_options = {k: v for d in _SESSION_OPTIONS for k, v in d.items()}
         self._extra_options.update(petsc_options or {})
         # global PETSc options entries this solver set: key -> the SNES's prefix
@@ -499,6 +504,8 @@ class NonlinearSolver:
     def _residual(self, snes: PETSc.SNES, x: PETSc.Vec, b: PETSc.Vec) -> None:
         self._to_functions(x)
         self.assembly.residual(x, b)
+        if self.linear_term is not None:
+            self.linear_term.multAdd(x, b, b)
         if self._penalty > 0.0:
             self._add_penalty_residual(x, b)
         elif self._ssn_on:
@@ -523,6 +530,8 @@ class NonlinearSolver:
     def _jacobian(self, snes: PETSc.SNES, x: PETSc.Vec, A: PETSc.Mat, P: PETSc.Mat) -> None:
         self._to_functions(x)
         self.assembly.jacobian(A)
+        if self.linear_term is not None:
+            A.axpy(1.0, self.linear_term, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
         if self._penalty > 0.0:
             self._add_penalty_jacobian(x, A)
         elif self._ssn_on:
@@ -1059,6 +1068,7 @@ class NonlinearSolver:
             self._snes_penalty,
             self._tangent_ksp,
             self._converged_x,
+            self.linear_term,
             self.A,
             self.b,
             self.x,

@@ -1,0 +1,160 @@
+"""Discrete upwinding of the film's Couette transport (``film.discrete_upwinding``).
+
+The JFO film's transport rows (the Couette flux ``U_m g theta`` against the test
+function, one-point quadrature plus streamline diffusion, :class:`SurfaceFilm`)
+are not a monotone scheme on an unstructured band: their Jacobian in the film
+fraction, ``C = dR_P / dtheta``, has positive off-diagonal entries.  Measured on
+the frozen default lip sector band (two-scale, 2.6 um elements, 1,047 free film
+nodes at 1 mm/s): 2,384 of its 6,248 off-diagonal entries are positive, up to
+0.41 of their row's diagonal.  In a cavitated zone the film is then not an
+M-matrix system: Newton's iterates put ``theta`` below 0 (to -6 at 3 mm/s when
+left unbounded), the bound ``theta >= 0`` clips them, and the active set
+wanders (250-680 of about 3,900 rows changing every step, docs/scenes/lip-sector.md).
+
+Kuzmin's discrete upwinding (D. Kuzmin, "Algebraic flux correction I", in Flux-
+Corrected Transport, Springer 2012, section 3; Kuzmin and Turek, J. Comput.
+Phys. 175, 2002) adds the least symmetric artificial diffusion that removes the
+positive off-diagonal entries:
+
+    D_ij = max(0, C_ij, C_ji)  (i != j),    D_ii = -sum_{j != i} D_ij,
+
+and the transport rows become ``C - D``: off-diagonal entries <= 0, the same
+column sums.  ``D`` is symmetric with zero row sums, so
+
+* a uniform film fraction feels nothing (``D 1 = 0``): a full film's Reynolds
+  equation is unchanged;
+* the correction moves oil between nodes and creates none (``1^T D = 0``):
+  the global mass balance and the edge flows are the scheme's own.
+
+The correction is first-order numerical diffusion of ``g theta`` along the
+mesh edges where the scheme was not upwind, of the size of the streamline
+diffusion already there.  It is built from the assembled Jacobian (Dirichlet
+and periodic-slave rows and columns are zero there, so ``D`` does not touch
+them), which is constant only while the lip is frozen: this is for film-only
+solves on a frozen lip (``feedback = false``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from petsc4py import PETSc
+
+from dolfinx_seal.errors import SolverError
+
+
+def _local_csr(M: PETSc.Mat) -> sp.csr_matrix:
+    """The owned rows of ``M`` with global column indices, as SciPy CSR."""
+    ai, aj, av = M.getValuesCSR()
+    (m, _), (_, N) = M.getSizes()
+    return sp.csr_matrix((av, aj, ai), shape=(m, N))
+
+
+def upwinding_diffusion(C: PETSc.Mat) -> PETSc.Mat:
+    """``-D`` (Kuzmin's discrete upwinding) of the square transport matrix ``C``,
+    with ``C``'s parallel layout: added to ``C`` it leaves no positive off-diagonal
+    entry and the column sums unchanged."""
+    r0, r1 = C.getOwnershipRange()
+    Cl = _local_csr(C).tocoo()
+    rows = Cl.row + r0
+    keep = (Cl.col != rows) & (Cl.data > 0.0)
+    positive = PETSc.Mat().createAIJ(C.getSizes(), comm=C.comm)
+    pos = sp.csr_matrix(
+        (Cl.data[keep], (Cl.row[keep], Cl.col[keep])), shape=(r1 - r0, C.getSize()[1])
+    )
+    pos.sort_indices()
+    positive.setPreallocationCSR(
+        (pos.indptr.astype(PETSc.IntType), pos.indices.astype(PETSc.IntType), pos.data)
+    )
+    positive.assemble()
+    transposed = positive.transpose(PETSc.Mat())
+    D = _local_csr(positive).maximum(_local_csr(transposed)).tocsr()
+    positive.destroy()
+    transposed.destroy()
+    row_sums = np.asarray(D.sum(axis=1)).ravel()
+    minus_D = (sp.diags(row_sums, offsets=r0, shape=D.shape) - D).tocsr()
+    minus_D.sum_duplicates()
+    minus_D.sort_indices()
+    out = PETSc.Mat().createAIJ(C.getSizes(), comm=C.comm)
+    out.setPreallocationCSR(
+        (minus_D.indptr.astype(PETSc.IntType), minus_D.indices.astype(PETSc.IntType), minus_D.data)
+    )
+    out.assemble()
+    return out
+
+
+def attach_discrete_upwinding(solver: Any) -> None:
+    """Set the discrete upwinding term of a film-only solver with the unknowns
+    ``[P, theta]`` (:meth:`SurfaceFilm.make_solver` on a JFO film) as its
+    :attr:`~dolfinx_seal.solvers.NonlinearSolver.linear_term`: ``-D`` in the
+    pressure rows and film-fraction columns, nothing else (the previous term is
+    destroyed first).
+
+    Assembles the solver's Jacobian at its current unknowns; call it again when the
+    speed, the film zone (its Dirichlet conditions) or the lip change.
+    """
+    if solver.linear_term is not None:
+        solver.linear_term.destroy()
+        solver.linear_term = None
+    solver.linear_term = _transport_correction(solver)
+
+
+def transport_block(solver: Any) -> tuple[PETSc.Mat, int]:
+    """The film solver's Jacobian block ``dR_P/dtheta`` (pressure rows, film-fraction
+    columns; the weighted rows the solver solves) at its current unknowns, without
+    its :attr:`linear_term`, and the number of pressure rows this rank owns."""
+    A = solver.A
+    x = solver.x
+    term, solver.linear_term = solver.linear_term, None
+    try:
+        solver._from_functions(x)
+        solver._jacobian(solver.snes, x, A, A)  # plain rows: no semismooth solve under way
+    finally:
+        solver.linear_term = term
+    comm = A.getComm().tompi4py()
+    start, end = A.getOwnershipRange()
+    n_local = end - start
+    if n_local % 2:
+        raise SolverError(
+            f"{solver.name}: film.discrete_upwinding needs a film solver with the "
+            f"unknowns [P, theta] of equal local sizes; this rank owns {n_local} rows"
+        )
+    n_p = n_local // 2  # the same P1 space and constraint for P and theta
+    isP = PETSc.IS().createGeneral(np.arange(start, start + n_p, dtype=PETSc.IntType), comm=comm)
+    isT = PETSc.IS().createGeneral(np.arange(start + n_p, end, dtype=PETSc.IntType), comm=comm)
+    C = A.createSubMatrix(isP, isT)
+    isP.destroy()
+    isT.destroy()
+    return C, n_p
+
+
+def _transport_correction(solver: Any) -> PETSc.Mat:
+    A = solver.A
+    comm = A.getComm().tompi4py()
+    start, end = A.getOwnershipRange()
+    n_local = end - start
+    C, n_p = transport_block(solver)
+    minus_D = upwinding_diffusion(C)
+    C.destroy()
+    # columns: theta's numbering in the submatrix -> the solver's global rows
+    sub_starts = np.array(comm.allgather(minus_D.getOwnershipRange()[0]), dtype=np.int64)
+    starts = np.array(comm.allgather(start), dtype=np.int64)
+    sizes_p = np.array(comm.allgather(n_p), dtype=np.int64)
+    Dl = _local_csr(minus_D).tocoo()
+    minus_D.destroy()
+    owner = np.searchsorted(sub_starts, Dl.col, side="right") - 1
+    cols = starts[owner] + sizes_p[owner] + (Dl.col - sub_starts[owner])
+    N = A.getSize()[0]
+    full = sp.csr_matrix((Dl.data, (Dl.row, cols)), shape=(n_local, N))
+    full.sort_indices()
+    M = PETSc.Mat().createAIJ(A.getSizes(), comm=comm)
+    M.setPreallocationCSR(
+        (full.indptr.astype(PETSc.IntType), full.indices.astype(PETSc.IntType), full.data)
+    )
+    M.assemble()
+    return M
+
+
+__all__ = ["attach_discrete_upwinding", "transport_block", "upwinding_diffusion"]
