@@ -69,14 +69,14 @@ from ufl.algorithms import extract_coefficients
 
 from dolfinx_seal.compat import interpolation_points
 from dolfinx_seal.errors import ParameterError
-from dolfinx_seal.params import check_choice, check_positive, check_range
+from dolfinx_seal.params import check_bool, check_choice, check_positive, check_range
 from dolfinx_seal.surface import tractions
 from dolfinx_seal.surface.asperity import area_fraction
 from dolfinx_seal.surface.state import SurfaceState
 
 CAVITATION_MODELS = ("none", "reynolds", "jfo")
 FLOW_FACTORS = ("none", "patir-cheng", "persson")
-UPWIND = ("fraction", "film")
+UPWIND = ("fraction", "film", "none")
 ACTIVE_TOLERANCE = 1e-8  # scaled pressure at or below which a film node is on its bound (PETSc VI)
 #: Thinnest film [m] a continuum Reynolds film describes: about three to five
 #: molecular layers of a mineral oil.  Below it the viscous (Couette) shear
@@ -117,13 +117,24 @@ class FilmParams:
             (a seal, deformed hundreds of times its film) is in the inverse-
             hydrodynamic limit where the Couette term fixes the film: a central
             gap then decouples odd and even nodes (a node-to-node wiggle of the
-            film and the pressure).
+            film and the pressure).  ``none``: no streamline diffusion, the
+            one-point Galerkin transport, only with ``discrete_upwinding``
+            (which then is the whole upwinding: an edge-based first-order
+            upwind scheme).
         gap_floor: Smallest gap used in the film coefficients, in units of
             h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates).  A
             smooth surface's converged film stays above it; resolved crests
             (the two-scale lip sector) can sit below it, where the floor, not
             the gap, sets the film: ``floored_area_fraction`` and
             ``floored_fluid_load_fraction`` say how much (docs/scenes/lip-sector.md).
+        discrete_upwinding: On the frozen lip sector (``lip-dynamic`` with
+            ``feedback = false``; other scenes refuse it), add Kuzmin's discrete
+            upwinding to the JFO film's Couette transport (:mod:`dolfinx_seal.film.upwinding`): the least
+            symmetric numerical diffusion that makes the transport rows an
+            M-matrix, conserving the oil.  On an unstructured band the
+            streamline-diffusion scheme alone is not monotone, and its
+            semismooth Newton can wander without converging
+            (docs/scenes/lip-sector.md).
     """
 
     viscosity: float = 0.1
@@ -137,6 +148,7 @@ class FilmParams:
     inlet_pressure: float = 0.0
     outlet_pressure: float = 0.0
     upwind: str = "fraction"
+    discrete_upwinding: bool = False
 
     def __post_init__(self) -> None:
         check_positive("film.viscosity", self.viscosity, "Pa s")
@@ -150,6 +162,14 @@ class FilmParams:
         check_range("film.gap_floor", self.gap_floor, 0.0, 1.0, lo_open=True)
         check_range("film.inlet_pressure", self.inlet_pressure, 0.0, 1e9, unit="Pa")
         check_range("film.outlet_pressure", self.outlet_pressure, 0.0, 1e9, unit="Pa")
+        check_bool("film.discrete_upwinding", self.discrete_upwinding)
+        if self.upwind == "none" and not self.discrete_upwinding:
+            raise ParameterError(
+                "film.upwind = 'none' (a central Couette transport) needs "
+                "film.discrete_upwinding = True to be stable; allowed here: "
+                "'fraction' or 'film'",
+                "film.upwind",
+            )
 
 
 @dataclass(frozen=True)
@@ -212,6 +232,9 @@ class SurfaceFilm:
         e_star: Effective modulus ``E*`` [Pa] (real contact area).
         no_flux_tags: Facet tags where the film boundary is a symmetry plane.
         psd: Roughness spectrum (``flow_factor = "persson"`` only).
+        frozen_surface: The film is solved alone on a frozen surface (the lip
+            sector with ``feedback = false``): the condition of
+            ``film.discrete_upwinding``.
 
     After :meth:`attach`, :attr:`blocks` lists ``(residual, function, lower,
     upper)`` per film unknown (pressure, and the film fraction for JFO),
@@ -228,8 +251,18 @@ class SurfaceFilm:
         e_star: float = math.nan,
         no_flux_tags: Sequence[int] = (),
         psd: Any = None,
+        frozen_surface: bool = False,
     ) -> None:
         self.params, self.scales = params, scales
+        if params.discrete_upwinding and not (
+            frozen_surface and params.cavitation == "jfo" and params.speed != 0.0
+        ):
+            raise ParameterError(
+                "film.discrete_upwinding = True: allowed only for a sliding JFO film "
+                "(film.cavitation = 'jfo', film.speed != 0) solved on a frozen lip "
+                "(the lip sector with feedback = false); set it to false here",
+                "film.discrete_upwinding",
+            )
         self.flow_table = None
         if params.flow_factor == "persson":
             from dolfinx_seal.contact.flow_factors import BruggemanFlowFactor
@@ -332,7 +365,7 @@ class SurfaceFilm:
             upwinded = None
             if pr.upwind == "film":
                 upwinded = self.surface_grad(self.g * self.theta)
-            elif self.has_theta:
+            elif self.has_theta and pr.upwind == "fraction":
                 upwinded = self.g * self.surface_grad(self.theta_fn)
             if upwinded is not None:
                 h_e = self._element_size(mesh, ctx.facet_tags.find(ctx.contact_tag))

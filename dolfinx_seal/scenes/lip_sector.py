@@ -67,6 +67,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
+from dolfinx_seal.film.upwinding import attach_discrete_upwinding
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
 from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.params import (
@@ -240,6 +241,12 @@ class LipStaticParameters(LipInstallParameters):
     def _check_speed(self) -> None:
         """Zero speed (a sliding shaft is the scene ``lip-dynamic``)."""
         check_range("film.speed", self.film.speed, 0.0, 0.0, unit="m/s (lip-dynamic slides)")
+        if self.film.discrete_upwinding:
+            raise ParameterError(
+                "film.discrete_upwinding = True at rest: there is no Couette transport "
+                "to upwind (the sliding scene is lip-dynamic); set it to false",
+                "film.discrete_upwinding",
+            )
 
     # ------------------------------------------------------------ derived
     @property
@@ -338,6 +345,12 @@ class LipDynamicParameters(LipStaticParameters):
         check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
                     unit="m/s (the turning shaft; a shaft at rest is the scene lip-static)")  # fmt: skip
         check_choice("film.cavitation", self.film.cavitation, ("jfo",))
+        if self.film.discrete_upwinding and self.feedback:
+            raise ParameterError(
+                "film.discrete_upwinding = True with feedback = True: the discrete "
+                "upwinding is for the film on a frozen lip (feedback = false)",
+                "film.discrete_upwinding",
+            )
 
 
 # ---------------------------------------------------------------- two scales
@@ -534,6 +547,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan), e_star=params.material.E_star,
         no_flux_tags=(tm.tag("periodic_left"), tm.tag("periodic_right")),
         psd=rough.stochastic if fp.flow_factor == "persson" else None,
+        frozen_surface=not params.feedback,
     )  # fmt: skip
     body = Body(Solid3D(), params.material.build(),
                 [Dirichlet(tm.tag("cut"), value=revolved.displacement)], degree=params.degree)  # fmt: skip
@@ -717,6 +731,8 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None) -> int:
     if not lub.problem.film.has_theta:
         return solver.solve(where=where).newton_iterations
     film = lub.problem.film
+    if film.params.discrete_upwinding:  # for this speed and zone
+        attach_discrete_upwinding(solver)
     P0, T0 = film.P.x.array.copy(), film.theta_fn.x.array.copy()
     its = 0
     try:
@@ -801,7 +817,10 @@ def nodal_mass_balance(lub: SectorLip) -> float:
 
     The Reynolds rows (unweighted, SI) assembled with the periodic constraint,
     ``K^T R``: a seam node's balance is its master's and its slave's rows together.
-    Max over the free, non-slave film nodes, over the inflow.
+    Max over the free, non-slave film nodes, over the inflow.  With
+    ``film.discrete_upwinding`` the rows include its term (the film solver's
+    :attr:`~dolfinx_seal.solvers.NonlinearSolver.linear_term`, pressure rows
+    first in its layout).
     """
     import dolfinx_mpc
     from petsc4py import PETSc
@@ -810,8 +829,16 @@ def nodal_mass_balance(lub: SectorLip) -> float:
     mpc = film.constraints[0]
     b = dolfinx_mpc.assemble_vector(film._flux_form(), mpc)
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-    r = b.getArray(readonly=True) / float(film.row_weight.value)
+    r = b.getArray(readonly=True).copy()
     n = film.S.dofmap.index_map.size_local
+    solver = lub.film_only
+    if solver is not None and solver.linear_term is not None:
+        solver._from_functions(solver.x)
+        extra = solver.linear_term.createVecLeft()
+        solver.linear_term.mult(solver.x, extra)
+        r[:n] += extra.getArray(readonly=True)[:n]
+        extra.destroy()
+    r /= float(film.row_weight.value)
     slaves = np.asarray(mpc.slaves)
     free = np.setdiff1d(film.film_dofs_local, slaves[slaves < n])
     comm = lub.mesh.comm
