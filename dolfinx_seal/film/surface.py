@@ -127,8 +127,8 @@ class FilmParams:
             (the two-scale lip sector) can sit below it, where the floor, not
             the gap, sets the film: ``floored_area_fraction`` and
             ``floored_fluid_load_fraction`` say how much (docs/scenes/lip-sector.md).
-        discrete_upwinding: On the frozen lip sector (``lip-dynamic`` with
-            ``feedback = false``; other scenes refuse it), add Kuzmin's discrete
+        discrete_upwinding: On the lip sector (``lip-dynamic``; other scenes
+            refuse it), add Kuzmin's discrete
             upwinding to the JFO film's Couette transport (:mod:`dolfinx_seal.film.upwinding`): the least
             symmetric numerical diffusion that makes the transport rows an
             M-matrix, conserving the oil.  On an unstructured band the
@@ -232,9 +232,8 @@ class SurfaceFilm:
         e_star: Effective modulus ``E*`` [Pa] (real contact area).
         no_flux_tags: Facet tags where the film boundary is a symmetry plane.
         psd: Roughness spectrum (``flow_factor = "persson"`` only).
-        frozen_surface: The film is solved alone on a frozen surface (the lip
-            sector with ``feedback = false``): the condition of
-            ``film.discrete_upwinding``.
+        allow_discrete_upwinding: The scene supports ``film.discrete_upwinding``
+            (the lip sector; the others refuse it).
 
     After :meth:`attach`, :attr:`blocks` lists ``(residual, function, lower,
     upper)`` per film unknown (pressure, and the film fraction for JFO),
@@ -251,16 +250,16 @@ class SurfaceFilm:
         e_star: float = math.nan,
         no_flux_tags: Sequence[int] = (),
         psd: Any = None,
-        frozen_surface: bool = False,
+        allow_discrete_upwinding: bool = False,
     ) -> None:
         self.params, self.scales = params, scales
         if params.discrete_upwinding and not (
-            frozen_surface and params.cavitation == "jfo" and params.speed != 0.0
+            allow_discrete_upwinding and params.cavitation == "jfo" and params.speed != 0.0
         ):
             raise ParameterError(
                 "film.discrete_upwinding = True: allowed only for a sliding JFO film "
-                "(film.cavitation = 'jfo', film.speed != 0) solved on a frozen lip "
-                "(the lip sector with feedback = false); set it to false here",
+                "(film.cavitation = 'jfo', film.speed != 0) of the lip sector "
+                "(lip-dynamic); set it to false here",
                 "film.discrete_upwinding",
             )
         self.flow_table = None

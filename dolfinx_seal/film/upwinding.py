@@ -30,8 +30,10 @@ The correction is first-order numerical diffusion of ``g theta`` along the
 mesh edges where the scheme was not upwind, of the size of the streamline
 diffusion already there.  It is built from the assembled Jacobian (Dirichlet
 and periodic-slave rows and columns are zero there, so ``D`` does not touch
-them), which is constant only while the lip is frozen: this is for film-only
-solves on a frozen lip (``feedback = false``).
+them).  On a frozen lip it is constant for a given speed and zone; on a coupled
+lip it depends on the displacement, and the lip sector keeps it lagged: built
+on the state a Newton solve starts from, rebuilt on the converged state and
+solved again until a solve starts converged (``lip_sector._settle_upwinding``).
 """
 
 from __future__ import annotations
@@ -85,10 +87,12 @@ def upwinding_diffusion(C: PETSc.Mat) -> PETSc.Mat:
     return out
 
 
-def attach_discrete_upwinding(solver: Any) -> None:
-    """Set the discrete upwinding term of a film-only solver with the unknowns
-    ``[P, theta]`` (:meth:`SurfaceFilm.make_solver` on a JFO film) as its
-    :attr:`~dolfinx_seal.solvers.NonlinearSolver.linear_term`: ``-D`` in the
+def attach_discrete_upwinding(solver: Any, pressure: int = 0, fraction: int = 1) -> None:
+    """Set the discrete upwinding term of a solver whose unknowns include a JFO
+    film's pressure (block ``pressure``) and film fraction (block ``fraction``):
+    the film-only solver of :meth:`SurfaceFilm.make_solver` (``[P, theta]``) or a
+    coupled one (``[w, P, theta, ...]``).  The term, its
+    :attr:`~dolfinx_seal.solvers.NonlinearSolver.linear_term`, is ``-D`` in the
     pressure rows and film-fraction columns, nothing else (the previous term is
     destroyed first).
 
@@ -98,13 +102,27 @@ def attach_discrete_upwinding(solver: Any) -> None:
     if solver.linear_term is not None:
         solver.linear_term.destroy()
         solver.linear_term = None
-    solver.linear_term = _transport_correction(solver)
+    solver.linear_term = _transport_correction(solver, pressure, fraction)
 
 
-def transport_block(solver: Any) -> tuple[PETSc.Mat, int]:
-    """The film solver's Jacobian block ``dR_P/dtheta`` (pressure rows, film-fraction
-    columns; the weighted rows the solver solves) at its current unknowns, without
-    its :attr:`linear_term`, and the number of pressure rows this rank owns."""
+def _block_offsets(solver: Any) -> np.ndarray:
+    """This rank's offsets of the solver's blocks in its owned rows (block layout)."""
+    us = solver.u if isinstance(solver.u, list | tuple) else [solver.u]
+    sizes = [u.function_space.dofmap.index_map.size_local * u.function_space.dofmap.index_map_bs
+             for u in us]  # fmt: skip
+    start, end = solver.A.getOwnershipRange()
+    if sum(sizes) != end - start:
+        raise SolverError(
+            f"{solver.name}: the blocks own {sum(sizes)} rows on this rank, its matrix "
+            f"{end - start}: not the block layout film.discrete_upwinding reads"
+        )
+    return np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+
+
+def transport_block(solver: Any, pressure: int = 0, fraction: int = 1) -> PETSc.Mat:
+    """The solver's Jacobian block ``dR_P/dtheta`` (the rows of block ``pressure``,
+    the columns of block ``fraction``; the weighted rows the solver solves) at its
+    current unknowns, without its :attr:`linear_term`."""
     A = solver.A
     x = solver.x
     term, solver.linear_term = solver.linear_term, None
@@ -114,40 +132,41 @@ def transport_block(solver: Any) -> tuple[PETSc.Mat, int]:
     finally:
         solver.linear_term = term
     comm = A.getComm().tompi4py()
-    start, end = A.getOwnershipRange()
-    n_local = end - start
-    if n_local % 2:
+    start = A.getOwnershipRange()[0]
+    off = _block_offsets(solver)
+    rows = np.arange(start + off[pressure], start + off[pressure + 1], dtype=PETSc.IntType)
+    cols = np.arange(start + off[fraction], start + off[fraction + 1], dtype=PETSc.IntType)
+    if rows.size != cols.size:
         raise SolverError(
-            f"{solver.name}: film.discrete_upwinding needs a film solver with the "
-            f"unknowns [P, theta] of equal local sizes; this rank owns {n_local} rows"
+            f"{solver.name}: the film pressure and fraction blocks own {rows.size} and "
+            f"{cols.size} rows on this rank; film.discrete_upwinding needs them equal"
         )
-    n_p = n_local // 2  # the same P1 space and constraint for P and theta
-    isP = PETSc.IS().createGeneral(np.arange(start, start + n_p, dtype=PETSc.IntType), comm=comm)
-    isT = PETSc.IS().createGeneral(np.arange(start + n_p, end, dtype=PETSc.IntType), comm=comm)
+    isP = PETSc.IS().createGeneral(rows, comm=comm)
+    isT = PETSc.IS().createGeneral(cols, comm=comm)
     C = A.createSubMatrix(isP, isT)
     isP.destroy()
     isT.destroy()
-    return C, n_p
+    return C
 
 
-def _transport_correction(solver: Any) -> PETSc.Mat:
+def _transport_correction(solver: Any, pressure: int, fraction: int) -> PETSc.Mat:
     A = solver.A
     comm = A.getComm().tompi4py()
     start, end = A.getOwnershipRange()
-    n_local = end - start
-    C, n_p = transport_block(solver)
+    C = transport_block(solver, pressure, fraction)
     minus_D = upwinding_diffusion(C)
     C.destroy()
+    off = _block_offsets(solver)
     # columns: theta's numbering in the submatrix -> the solver's global rows
     sub_starts = np.array(comm.allgather(minus_D.getOwnershipRange()[0]), dtype=np.int64)
-    starts = np.array(comm.allgather(start), dtype=np.int64)
-    sizes_p = np.array(comm.allgather(n_p), dtype=np.int64)
+    theta_starts = np.array(comm.allgather(start + off[fraction]), dtype=np.int64)
     Dl = _local_csr(minus_D).tocoo()
     minus_D.destroy()
     owner = np.searchsorted(sub_starts, Dl.col, side="right") - 1
-    cols = starts[owner] + sizes_p[owner] + (Dl.col - sub_starts[owner])
-    N = A.getSize()[0]
-    full = sp.csr_matrix((Dl.data, (Dl.row, cols)), shape=(n_local, N))
+    cols = theta_starts[owner] + (Dl.col - sub_starts[owner])
+    full = sp.csr_matrix(
+        (Dl.data, (Dl.row + off[pressure], cols)), shape=(end - start, A.getSize()[0])
+    )
     full.sort_indices()
     M = PETSc.Mat().createAIJ(A.getSizes(), comm=comm)
     M.setPreallocationCSR(

@@ -345,12 +345,6 @@ class LipDynamicParameters(LipStaticParameters):
         check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
                     unit="m/s (the turning shaft; a shaft at rest is the scene lip-static)")  # fmt: skip
         check_choice("film.cavitation", self.film.cavitation, ("jfo",))
-        if self.film.discrete_upwinding and self.feedback:
-            raise ParameterError(
-                "film.discrete_upwinding = True with feedback = True: the discrete "
-                "upwinding is for the film on a frozen lip (feedback = false)",
-                "film.discrete_upwinding",
-            )
 
 
 # ---------------------------------------------------------------- two scales
@@ -547,7 +541,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         h_rms=h_rms, rms_slope=getattr(law, "rms_slope", math.nan), e_star=params.material.E_star,
         no_flux_tags=(tm.tag("periodic_left"), tm.tag("periodic_right")),
         psd=rough.stochastic if fp.flow_factor == "persson" else None,
-        frozen_surface=not params.feedback,
+        allow_discrete_upwinding=True,
     )  # fmt: skip
     body = Body(Solid3D(), params.material.build(),
                 [Dirichlet(tm.tag("cut"), value=revolved.displacement)], degree=params.degree)  # fmt: skip
@@ -802,7 +796,42 @@ def polish_film(lub: SectorLip, where: str) -> int:
     """
     if lub.film_polish is None:
         return 0
+    if lub.problem.film.params.discrete_upwinding:  # this lip's
+        attach_discrete_upwinding(lub.film_polish)
     return lub.film_polish.solve(where=f"{where}: film on the converged lip").newton_iterations
+
+
+#: Passes of the coupled sliding Newton with the discrete upwinding rebuilt at its
+#: last state (:func:`_settle_upwinding`): the term depends on the lip.
+UPWINDING_PASSES = 8
+
+
+def _film_blocks(prob: Any) -> tuple[int, int]:
+    """The blocks of the film pressure and fraction among the problem's unknowns."""
+    film = prob.film
+    ids = [i for i, b in enumerate(prob.blocks) if b[1] is film.P or b[1] is film.theta_fn]
+    return ids[0], ids[1]
+
+
+def _settle_upwinding(lub: SectorLip, where: str) -> int:
+    """The coupled sliding point with ``film.discrete_upwinding``: the term was built
+    on the state the Newton started from, so rebuild it on the converged state and
+    solve again until a solve starts converged (at most :data:`UPWINDING_PASSES`);
+    returns the Newton steps."""
+    prob = lub.problem
+    its = 0
+    for k in range(UPWINDING_PASSES):
+        attach_discrete_upwinding(prob.solver, *_film_blocks(prob))
+        n = prob.solver.solve(where=f"{where}: coupled, upwinding pass {k + 1}").newton_iterations
+        its += n
+        if n == 0:
+            return its
+    raise SolverError(
+        f"the coupled film with film.discrete_upwinding did not settle in "
+        f"{UPWINDING_PASSES} passes (the term rebuilt on each converged lip)",
+        where,
+        history=prob.solver.history,
+    )
 
 
 # ---------------------------------------------------------------- results
@@ -818,9 +847,9 @@ def nodal_mass_balance(lub: SectorLip) -> float:
     The Reynolds rows (unweighted, SI) assembled with the periodic constraint,
     ``K^T R``: a seam node's balance is its master's and its slave's rows together.
     Max over the free, non-slave film nodes, over the inflow.  With
-    ``film.discrete_upwinding`` the rows include its term (the film solver's
+    ``film.discrete_upwinding`` the rows include its term (the film-only solver's
     :attr:`~dolfinx_seal.solvers.NonlinearSolver.linear_term`, pressure rows
-    first in its layout).
+    first in its layout; on the coupled lip the polish's, built on the last lip).
     """
     import dolfinx_mpc
     from petsc4py import PETSc
@@ -831,7 +860,7 @@ def nodal_mass_balance(lub: SectorLip) -> float:
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
     r = b.getArray(readonly=True).copy()
     n = film.S.dofmap.index_map.size_local
-    solver = lub.film_only
+    solver = lub.film_only if lub.film_only is not None else lub.film_polish
     if solver is not None and solver.linear_term is not None:
         solver._from_functions(solver.x)
         extra = solver.linear_term.createVecLeft()
@@ -1130,6 +1159,9 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish)
     predicted = prob.state()
     solver = prob.solver
+    upwinding = prob.film.params.discrete_upwinding
+    if upwinding:
+        attach_discrete_upwinding(solver, *_film_blocks(prob))
     with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_OPTIONS):
         for line_search in COUPLED_LINE_SEARCHES:
             try:
@@ -1145,6 +1177,8 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
             get_logger().info("%s: pseudo-time steps of the coupled film", where)
             its += pseudo_transient_solve(prob.film, solver, f"{where}: coupled",
                                           unknowns=[b[1] for b in prob.blocks])  # fmt: skip
+        if upwinding:
+            its += _settle_upwinding(lub, where)
     return its + polish_film(lub, where)
 
 
