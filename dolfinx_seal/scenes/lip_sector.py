@@ -1147,7 +1147,9 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     steps, then from the same state with a backtracking line search,
     :data:`COUPLED_SLIDING_OPTIONS`); if both fail, pseudo-time steps of the
     coupled film from the predicted state (every unknown restored on a failed
-    step); then :func:`polish_film`.  Measured on the coarse
+    step); with ``film.discrete_upwinding`` the term rebuilt on the converged lip
+    until a solve starts converged (:func:`_settle_upwinding`); then
+    :func:`polish_film`.  Measured on the coarse
     two-scale sector (5.2 um band, 0.05 MPa, two ranks): from 1e-4 m/s straight to
     1e-3 m/s without the film predictor the coupled Newton ran 32 steps into a NaN;
     with it, 184 film steps (its pseudo-time fallback) and 3 coupled steps; 1e-2
