@@ -47,6 +47,21 @@ PRESSURES = (0.02e6, 0.05e6, 0.1e6)
 CHECK_R = 40e-3  # the default shaft radius [m]
 
 
+def _speed_rows(lub, p, speeds):
+    """The frozen sliding sector ``lub`` of parameters ``p``: dry, pressurised at
+    ``p``'s speed, then walked through ``speeds``; the results at each."""
+    from dolfinx_seal.scenes import lip_sector
+
+    lip_sector.solve_dry(lub, p)
+    lip_sector.solve_pressures(lub, p)
+    rows = []
+    for v in speeds:
+        pv = set_parameter(p, "film.speed", v)
+        lip_sector.solve_speed(lub, pv)
+        rows.append(lip_sector.results(lub, pv))
+    return rows
+
+
 def _sector_rows(values):
     from dolfinx_seal.scenes import lip_sector
 
@@ -413,13 +428,7 @@ def test_discrete_upwinding_leaves_a_full_film_alone(sliding):
                                                                  "discrete_upwinding": True}})  # fmt: skip
     lub = lip_sector.build(p)
     try:
-        lip_sector.solve_dry(lub, p)
-        lip_sector.solve_pressures(lub, p)
-        rows = []
-        for v in SPEEDS:
-            pv = set_parameter(p, "film.speed", v)
-            lip_sector.solve_speed(lub, pv)
-            rows.append(lip_sector.results(lub, pv))
+        rows = _speed_rows(lub, p, SPEEDS)
         M = lub.film_only.linear_term
         assert M is not None
         C = transport_block(lub.film_only)
@@ -578,13 +587,7 @@ def test_two_scale_sector_slides_and_pumps_linearly_in_the_speed():
     p = make_parameters("lip-dynamic", values={**TWO_SCALE, "film": {"speed": 1e-3}})
     lub = lip_sector.build(p)
     try:
-        lip_sector.solve_dry(lub, p)
-        lip_sector.solve_pressures(lub, p)
-        rows = []
-        for v in TWO_SCALE_SPEEDS:
-            pv = set_parameter(p, "film.speed", v)
-            lip_sector.solve_speed(lub, pv)
-            rows.append(lip_sector.results(lub, pv))
+        rows = _speed_rows(lub, p, TWO_SCALE_SPEEDS)
     finally:
         lub.destroy()
     one = MPI.COMM_WORLD.size == 1
