@@ -119,8 +119,7 @@ class FilmParams:
             gap then decouples odd and even nodes (a node-to-node wiggle of the
             film and the pressure).  ``none``: no streamline diffusion, the
             one-point Galerkin transport, only with ``discrete_upwinding``
-            (which then is the whole upwinding: an edge-based first-order
-            upwind scheme).
+            (which then is the whole upwinding).
         gap_floor: Smallest gap used in the film coefficients, in units of
             h_rms [-] (keeps g^3 and eta U / g finite for Newton iterates).  A
             smooth surface's converged film stays above it; resolved crests
