@@ -46,6 +46,7 @@ import scipy.sparse as sp
 from petsc4py import PETSc
 
 from dolfinx_seal.errors import SolverError
+from dolfinx_seal.solvers.assembly import owned_block_offsets
 
 
 def _local_csr(M: PETSc.Mat) -> sp.csr_matrix:
@@ -108,30 +109,21 @@ def attach_discrete_upwinding(solver: Any, pressure: int = 0, fraction: int = 1)
 
 def _block_offsets(solver: Any) -> np.ndarray:
     """This rank's offsets of the solver's blocks in its owned rows (block layout)."""
-    us = solver.u if isinstance(solver.u, list | tuple) else [solver.u]
-    sizes = [u.function_space.dofmap.index_map.size_local * u.function_space.dofmap.index_map_bs
-             for u in us]  # fmt: skip
+    off = owned_block_offsets(solver.u if isinstance(solver.u, list | tuple) else [solver.u])
     start, end = solver.A.getOwnershipRange()
-    if sum(sizes) != end - start:
+    if off[-1] != end - start:
         raise SolverError(
-            f"{solver.name}: the blocks own {sum(sizes)} rows on this rank, its matrix "
+            f"{solver.name}: the blocks own {off[-1]} rows on this rank, its matrix "
             f"{end - start}: not the block layout film.discrete_upwinding reads"
         )
-    return np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+    return off
 
 
 def transport_block(solver: Any, pressure: int = 0, fraction: int = 1) -> PETSc.Mat:
     """The solver's Jacobian block ``dR_P/dtheta`` (the rows of block ``pressure``,
     the columns of block ``fraction``; the weighted rows the solver solves) at its
     current unknowns, without its :attr:`linear_term`."""
-    A = solver.A
-    x = solver.x
-    term, solver.linear_term = solver.linear_term, None
-    try:
-        solver._from_functions(x)
-        solver._jacobian(solver.snes, x, A, A)  # plain rows: no semismooth solve under way
-    finally:
-        solver.linear_term = term
+    A = solver.jacobian(with_linear_term=False)
     comm = A.getComm().tompi4py()
     start = A.getOwnershipRange()[0]
     off = _block_offsets(solver)

@@ -18,6 +18,7 @@ import numpy as np
 
 import dolfinx_seal.compat  # noqa: F401  (the quiet JIT, before any DOLFINx use)
 from dolfinx_seal.params import check_positive, check_range
+from dolfinx_seal.solvers.assembly import owned_block_offsets
 
 
 @dataclass(frozen=True)
@@ -112,10 +113,7 @@ def displacement_limiter(
     comm = prob.mesh.comm
     blocks = prob.blocks if blocks is None else blocks
     position_free = prob.control == "force" and blocks[-1][1] is prob.position
-    pos_index = sum(
-        b[1].function_space.dofmap.index_map.size_local * b[1].function_space.dofmap.index_map_bs
-        for b in blocks[:-1]
-    )
+    pos_index = int(owned_block_offsets([b[1] for b in blocks])[-2])
 
     def limit(x: np.ndarray, dx: np.ndarray) -> float:
         s = 1.0
@@ -229,10 +227,7 @@ def surface_gap_limiter(
 def _position_index(prob: Any) -> int:
     """Local index of the counter position (the last block, force control) in the
     solver's vector on its owning rank: after the owned entries of the other blocks."""
-    return sum(
-        b[1].function_space.dofmap.index_map.size_local * b[1].function_space.dofmap.index_map_bs
-        for b in prob.blocks[:-1]
-    )
+    return int(owned_block_offsets([b[1] for b in prob.blocks])[-2])
 
 
 def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:

@@ -6,6 +6,7 @@ from dolfinx_seal.solvers.assembly import (
     PlainAssembly,
     ProjectedMPCAssembly,
     add_rotational_periodic_constraint,
+    owned_block_offsets,
 )
 from dolfinx_seal.solvers.periodic import RotationalPeriodicity
 from dolfinx_seal.solvers.snes import (
@@ -28,6 +29,7 @@ __all__ = [
     "add_rotational_periodic_constraint",
     "bounds_function",
     "extra_petsc_options",
+    "owned_block_offsets",
     "solver_session",
     "with_snes_type",
 ]

@@ -741,10 +741,22 @@ def add_rotational_periodic_constraint(
     )
 
 
+def owned_block_offsets(unknowns: Sequence[Any]) -> np.ndarray:
+    """Offsets of each unknown's owned entries in this rank's part of a blocked
+    (DOLFINx block layout) vector: ``[0, n_0, n_0 + n_1, ...]``, ``n_i`` the owned
+    dofs of ``unknowns[i]`` times its block size."""
+    sizes = [
+        u.function_space.dofmap.index_map.size_local * u.function_space.dofmap.index_map_bs
+        for u in unknowns
+    ]
+    return np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+
+
 __all__ = [
     "Assembly",
     "MPCAssembly",
     "PlainAssembly",
     "ProjectedMPCAssembly",
     "add_rotational_periodic_constraint",
+    "owned_block_offsets",
 ]

@@ -961,6 +961,20 @@ class NonlinearSolver:
         self._residual(self._snes, self.x, self.b)
         return self.b.copy()
 
+    def jacobian(self, with_linear_term: bool = True) -> PETSc.Mat:
+        """The Jacobian at the current unknowns, assembled into the solver's matrix
+        (plain rows, no semismooth identity rows; :attr:`linear_term` added unless
+        ``with_linear_term`` is false).  The next solve assembles it afresh."""
+        term = self.linear_term
+        if not with_linear_term:
+            self.linear_term = None
+        try:
+            self._from_functions(self.x)
+            self._jacobian(self._snes, self.x, self.A, self.A)
+        finally:
+            self.linear_term = term
+        return self.A
+
     def scaled_residual(self, F: PETSc.Vec) -> float:
         """``max_i |x_i - clip(x_i - F_i / J_ii, l_i, u_i)|``: the residual in solution units.
 
