@@ -8,7 +8,7 @@ from dolfinx_seal.solvers.assembly import (
     add_rotational_periodic_constraint,
     owned_block_offsets,
 )
-from dolfinx_seal.solvers.periodic import RotationalPeriodicity
+from dolfinx_seal.solvers.periodic import RotationalPeriodicity, TranslationalPeriodicity
 from dolfinx_seal.solvers.snes import (
     NonlinearSolver,
     SNESOptions,
@@ -26,6 +26,7 @@ __all__ = [
     "ProjectedMPCAssembly",
     "RotationalPeriodicity",
     "SNESOptions",
+    "TranslationalPeriodicity",
     "add_rotational_periodic_constraint",
     "bounds_function",
     "extra_petsc_options",

@@ -1,4 +1,4 @@
-"""Rotational periodicity of a sector of a body of revolution (dolfinx_mpc constraints).
+"""Periodicity of a sector of a body of revolution, or of a flat band (dolfinx_mpc constraints).
 
 A sector of angle ``angle`` about the z axis, centred on the plane at the angle
 ``centre`` (its two cut faces at ``centre - angle/2``, the master side, and
@@ -15,7 +15,9 @@ for a body (its displacement, and the pressure of a mixed u-p space) and one per
 scalar field (a film pressure, a film fraction).  Dofs with a Dirichlet
 condition in ``bcs`` never become slaves (dolfinx_mpc skips them): pass every
 condition of the field, so that a node on both a cut face and a Dirichlet
-boundary keeps its condition.  Geometry only: numpy and dolfinx_mpc.
+boundary keeps its condition.  :class:`TranslationalPeriodicity` is the same
+for a flat band periodic along x (the rigid rough band of
+:mod:`dolfinx_seal.film.rigid_band`), scalar fields only.  Geometry only: numpy and dolfinx_mpc.
 """
 
 from __future__ import annotations
@@ -29,6 +31,15 @@ import numpy as np
 
 from dolfinx_seal.params import check_positive, check_range
 from dolfinx_seal.solvers.assembly import add_rotational_periodic_constraint
+
+
+def _scalar_constraint(V: Any, slave_side: Any, to_master: Any, bcs: Sequence[Any]) -> Any:
+    import dolfinx_mpc
+
+    mpc = dolfinx_mpc.MultiPointConstraint(V)
+    mpc.create_periodic_constraint_geometrical(V, slave_side, to_master, list(bcs))
+    mpc.finalize()
+    return mpc
 
 
 @dataclass(frozen=True)
@@ -90,12 +101,40 @@ class RotationalPeriodicity:
 
     def scalar(self, V: Any, bcs: Sequence[Any] = ()) -> Any:
         """Finalized constraint of a scalar field on ``V``: equal at slave and master."""
-        import dolfinx_mpc
-
-        mpc = dolfinx_mpc.MultiPointConstraint(V)
-        mpc.create_periodic_constraint_geometrical(V, self.slave_side, self.to_master, list(bcs))
-        mpc.finalize()
-        return mpc
+        return _scalar_constraint(V, self.slave_side, self.to_master, bcs)
 
 
-__all__ = ["RotationalPeriodicity"]
+@dataclass(frozen=True)
+class TranslationalPeriodicity:
+    """Periodicity along the x axis with period ``length`` (a flat band, e.g. the
+    rough band of :mod:`dolfinx_seal.film.rigid_band`): the slave face ``x = length``,
+    its master ``x = 0``.
+
+    Attributes:
+        length: Period [m].
+        tolerance: Largest distance [m] of a slave dof from the plane ``x = length``.
+    """
+
+    length: float
+    tolerance: float = 1e-9
+
+    def __post_init__(self) -> None:
+        check_positive("length", self.length, "m")
+        check_positive("tolerance", self.tolerance, "m")
+
+    def slave_side(self, x: np.ndarray) -> np.ndarray:
+        """Points ``x`` (3 x n) on the slave face."""
+        return np.abs(x[0] - self.length) < self.tolerance
+
+    def to_master(self, x: np.ndarray) -> np.ndarray:
+        """The master points of slave points ``x`` (3 x n)."""
+        out = np.array(x, copy=True)
+        out[0] -= self.length
+        return out
+
+    def scalar(self, V: Any, bcs: Sequence[Any] = ()) -> Any:
+        """Finalized constraint of a scalar field on ``V``: equal at slave and master."""
+        return _scalar_constraint(V, self.slave_side, self.to_master, bcs)
+
+
+__all__ = ["RotationalPeriodicity", "TranslationalPeriodicity"]
