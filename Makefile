@@ -59,6 +59,7 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/ball_extremes.py
 	$(DX) python3 bench/lip_mesh.py
 	$(DX) python3 bench/lip_extremes.py
+	$(DX) python3 bench/rough_band.py
 
 bench-perf:  ## issue 18: the 30-speed ball Stribeck sweep on 1 rank, on $(NP) ranks, and as $(NP) one-rank chains (bench/results/perf/perf.csv)
 	$(DX) python3 bench/perf.py --chains 1
