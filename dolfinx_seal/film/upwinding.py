@@ -28,8 +28,13 @@ column sums.  ``D`` is symmetric with zero row sums, so
 
 The correction is numerical diffusion of ``g theta`` along the mesh edges where
 the scheme was not upwind.  Measured on the lip sector: torque and load change
-by less than 0.5 %, the leakage at 1 mm/s by a factor of 1.8-1.9
-(docs/scenes/lip-sector.md says which film to trust, and how far).  It is built from the assembled Jacobian (Dirichlet
+by less than 0.5 %, the leakage at 1 mm/s by a factor of 1.8-1.9.  That is
+a bias: the diffusion acts along every edge, so across the sliding too, and a
+seal's leakage is a small residual of the circumferential Couette flux.  On a
+rigid rough band against a finite-volume reference
+(:mod:`dolfinx_seal.verification.rough_band`) the leakage with it is 16-29 %
+low at 0.1 m/s and of the wrong sign at 1 m/s, where streamline diffusion
+alone is within 1.2 % and 17 % (docs/verification.md).  It is built from the assembled Jacobian (Dirichlet
 and periodic-slave rows and columns are zero there, so ``D`` does not touch
 them).  On a frozen lip it is constant for a given speed and zone; on a coupled
 lip it depends on the displacement, and the lip sector keeps it lagged: built
