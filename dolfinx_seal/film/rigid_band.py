@@ -26,7 +26,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import SolverError
 from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
-from dolfinx_seal.film.upwinding import attach_discrete_upwinding
+from dolfinx_seal.film.upwinding import attach_discrete_upwinding, release_discrete_upwinding
 from dolfinx_seal.params import check_range
 from dolfinx_seal.solvers import SNESOptions
 from dolfinx_seal.solvers.periodic import TranslationalPeriodicity
@@ -116,6 +116,7 @@ class RigidBandFilm:
         jitter: Largest node offset, in elements, in [0, 0.3].
         upwind: ``film.upwind`` (``fraction``, ``film``, ``none``).
         discrete_upwinding: ``film.discrete_upwinding``.
+        release_upwinding: ``film.release_upwinding``.
         seed: Seed of the jitter.
     """
 
@@ -129,6 +130,7 @@ class RigidBandFilm:
         jitter: float = 0.25,
         upwind: str = "film",
         discrete_upwinding: bool = True,
+        release_upwinding: bool = False,
         seed: int = 0,
         comm: MPI.Comm = MPI.COMM_WORLD,
     ) -> None:
@@ -142,6 +144,7 @@ class RigidBandFilm:
             viscosity=op.viscosity, speed=op.speed, cavitation="jfo",
             inlet_pressure=op.p_oil, outlet_pressure=op.p_air, gap_floor=1e-6,
             upwind=upwind, discrete_upwinding=discrete_upwinding,
+            release_upwinding=release_upwinding,
         )  # fmt: skip
         p_ref = max(op.p_oil, op.p_air, 6.0 * op.viscosity * abs(op.speed) * L / gap.h_centre**2)
         dx = size
@@ -165,8 +168,19 @@ class RigidBandFilm:
     def solve(self) -> int:
         """Solve from a full film at rest (``theta = 1``, ``p = 0``): a semismooth
         Newton, and if that fails, pseudo-time steps from the same start
-        (:func:`~dolfinx_seal.film.pseudo_time.pseudo_transient_solve`).  Returns
-        the Newton steps of both; :attr:`path` says which solved it."""
+        (:func:`~dolfinx_seal.film.pseudo_time.pseudo_transient_solve`); with
+        ``release_upwinding``, then the discrete upwinding's weight walked to 0.
+        Returns the Newton steps; :attr:`path` says which solved it."""
+        its = self._solve()
+        if self.params.release_upwinding:
+            film = self.film
+            its += release_discrete_upwinding(
+                self.solver, [film.P, film.theta_fn], "rough band: release"
+            )[0]
+            self.path += ", released"
+        return its
+
+    def _solve(self) -> int:
         film = self.film
         film.P.x.array[:] = 0.0
         film.theta_fn.x.array[:] = 1.0

@@ -138,6 +138,12 @@ class FilmParams:
             (16-29 % low at 0.1 m/s, the wrong sign at 1 m/s on a rigid
             rough band against a finite-volume reference, where the
             default is within 1.2 % and 17 %; docs/verification.md).
+        release_upwinding: With ``discrete_upwinding``: once the monotone film
+            has converged, walk the discrete upwinding's weight down to 0, each
+            weight solved from the last film
+            (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
+            so that the film reported is the default scheme's (its leakage)
+            and the discrete upwinding only the path to it.
     """
 
     viscosity: float = 0.1
@@ -152,6 +158,7 @@ class FilmParams:
     outlet_pressure: float = 0.0
     upwind: str = "fraction"
     discrete_upwinding: bool = False
+    release_upwinding: bool = False
 
     def __post_init__(self) -> None:
         check_positive("film.viscosity", self.viscosity, "Pa s")
@@ -166,6 +173,20 @@ class FilmParams:
         check_range("film.inlet_pressure", self.inlet_pressure, 0.0, 1e9, unit="Pa")
         check_range("film.outlet_pressure", self.outlet_pressure, 0.0, 1e9, unit="Pa")
         check_bool("film.discrete_upwinding", self.discrete_upwinding)
+        check_bool("film.release_upwinding", self.release_upwinding)
+        if self.release_upwinding and not self.discrete_upwinding:
+            raise ParameterError(
+                "film.release_upwinding = True releases the discrete upwinding: it "
+                "needs film.discrete_upwinding = True",
+                "film.release_upwinding",
+            )
+        if self.release_upwinding and self.upwind == "none":
+            raise ParameterError(
+                "film.release_upwinding = True with film.upwind = 'none' would end on "
+                "the central transport, which is unstable; allowed here: 'fraction' "
+                "or 'film'",
+                "film.release_upwinding",
+            )
         if self.upwind == "none" and not self.discrete_upwinding:
             raise ParameterError(
                 "film.upwind = 'none' (a central Couette transport) needs "

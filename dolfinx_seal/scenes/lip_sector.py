@@ -67,7 +67,7 @@ from mpi4py import MPI
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
-from dolfinx_seal.film.upwinding import attach_discrete_upwinding
+from dolfinx_seal.film.upwinding import attach_discrete_upwinding, release_discrete_upwinding
 from dolfinx_seal.meshing import TaggedMesh, create_mesh
 from dolfinx_seal.mpi import get_logger, world
 from dolfinx_seal.params import (
@@ -701,7 +701,7 @@ def set_sealed_pressures(lub: SectorLip, oil: float, air: float) -> None:
 FILM_ONLY_TOLERANCES = {"rtol": 1e-20, "atol": 1e-300, "dtol": 1e300, "max_it": 150}
 
 
-def solve_film(lub: SectorLip, where: str, solver: Any = None) -> int:
+def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = True) -> int:
     """Solve the film on the frozen lip with ``solver`` (default ``lub.film_only``,
     ``feedback = false``; the coupled sliding sector's predictor passes
     ``lub.film_polish``); returns the Newton steps.
@@ -724,6 +724,14 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None) -> int:
     solver = solver if solver is not None else lub.film_only
     if not lub.problem.film.has_theta:
         return solver.solve(where=where).newton_iterations
+    film = lub.problem.film
+    its = _solve_jfo_film(lub, where, solver)
+    if release and film.params.release_upwinding:
+        its += release_discrete_upwinding(solver, [film.P, film.theta_fn], where)[0]
+    return its
+
+
+def _solve_jfo_film(lub: SectorLip, where: str, solver: Any) -> int:
     film = lub.problem.film
     if film.params.discrete_upwinding:  # for this speed and zone
         attach_discrete_upwinding(solver)
@@ -796,8 +804,12 @@ def polish_film(lub: SectorLip, where: str) -> int:
     """
     if lub.film_polish is None:
         return 0
-    if lub.problem.film.params.discrete_upwinding:  # this lip's
+    fp = lub.problem.film.params
+    if fp.discrete_upwinding and not fp.release_upwinding:  # this lip's
         attach_discrete_upwinding(lub.film_polish)
+    elif lub.film_polish.linear_term is not None:  # released: the predictor's term goes
+        lub.film_polish.linear_term.destroy()
+        lub.film_polish.linear_term = None
     return lub.film_polish.solve(where=f"{where}: film on the converged lip").newton_iterations
 
 
@@ -1158,7 +1170,8 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     if lub.film_only is not None:
         return solve_film(lub, where=f"{where} (frozen lip)")
     prob = lub.problem
-    its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish)
+    its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish,
+                     release=False)  # fmt: skip
     predicted = prob.state()
     solver = prob.solver
     upwinding = prob.film.params.discrete_upwinding
@@ -1181,6 +1194,10 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
                                           unknowns=[b[1] for b in prob.blocks])  # fmt: skip
         if upwinding:
             its += _settle_upwinding(lub, where)
+            if prob.film.params.release_upwinding:
+                its += release_discrete_upwinding(
+                    solver, [b[1] for b in prob.blocks], f"{where}: coupled"
+                )[0]
     return its + polish_film(lub, where)
 
 
