@@ -9,7 +9,9 @@ For each speed, the finite-volume reference
 * ``film``: streamline diffusion of the film ``g theta`` (``film.upwind = film``,
   the lip sector's default);
 * ``film+du``: the same with ``film.discrete_upwinding``;
-* ``none+du``: ``film.upwind = none`` with ``film.discrete_upwinding``.
+* ``none+du``: ``film.upwind = none`` with ``film.discrete_upwinding``;
+* ``film+du+release``: ``film+du``, then ``film.release_upwinding``: the
+  weight of the discrete upwinding walked to 0, ending on ``film``'s film.
 
 Per row: elements per period, scheme, film unknowns, Newton steps, the path that
 solved it, wall time, leakage, load and cavitated fraction with their errors
@@ -40,6 +42,7 @@ SCHEMES = {
     "film": {"upwind": "film", "discrete_upwinding": False},
     "film+du": {"upwind": "film", "discrete_upwinding": True},
     "none+du": {"upwind": "none", "discrete_upwinding": True},
+    "film+du+release": {"upwind": "film", "discrete_upwinding": True, "release_upwinding": True},
 }
 FIELDS = ["speed", "per_period", "scheme", "unknowns", "newton", "path", "time_s", "leakage",
           "leakage_error", "load", "load_error", "cavitation_fraction", "cavitation_error",

@@ -404,7 +404,10 @@ def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
     ("values", "name"),
     [({"feedback": 1}, "feedback"), ({"film": {"speed": 0.0}}, "film.speed"),
      ({"film": {"cavitation": "reynolds"}}, "film.cavitation"),
-     ({"film": {"upwind": "none"}}, "film.upwind")],
+     ({"film": {"upwind": "none"}}, "film.upwind"),
+     ({"film": {"release_upwinding": True}}, "film.release_upwinding"),
+     ({"film": {"discrete_upwinding": True, "release_upwinding": True, "upwind": "none"}},
+      "film.release_upwinding")],
 )  # fmt: skip
 def test_sliding_bad_input_names_the_parameter(values, name):
     with pytest.raises(ParameterError, match=name.replace(".", r"\.")):
