@@ -135,7 +135,8 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
                "fluid_load_fraction": r["fluid_load_fraction"], "h_min": r["h_min"],
                "radial_load": r["radial_load"],
                "mass_balance_error": r["mass_balance_error"],
-               "nodal_mass_balance_error": r["nodal_mass_balance_error"]}  # fmt: skip
+               "nodal_mass_balance_error": r["nodal_mass_balance_error"],
+               "discrete_upwinding_weight": r.get("discrete_upwinding_weight", math.nan)}  # fmt: skip
         t_last[0] = now
         rows.append(row)
         writer.append(row)

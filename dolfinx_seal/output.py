@@ -72,6 +72,9 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "floored_fluid_load_fraction": (
         "-", "share of the fluid load carried where the gap is at its floor", False,
     ),
+    "discrete_upwinding_weight": (
+        "-", "weight of film.discrete_upwinding's term in the film (0: released)", False,
+    ),
     "max_contact_pressure": ("Pa", "peak asperity contact pressure", True),
     "leakage_rate": ("m^3/s", "volume flow through the seal", True),
     "friction_torque": ("N m", "friction torque on the shaft", True),

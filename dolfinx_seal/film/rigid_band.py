@@ -164,6 +164,8 @@ class RigidBandFilm:
         self.film.attach(ctx)
         self.solver = self.film.make_solver(BAND_SNES, name="rough band film")
         self.path = ""
+        #: weight of the discrete upwinding term in the film solved (0: released)
+        self.upwinding_weight = 1.0 if discrete_upwinding else 0.0
 
     def solve(self) -> int:
         """Solve from a full film at rest (``theta = 1``, ``p = 0``): a semismooth
@@ -174,10 +176,11 @@ class RigidBandFilm:
         its = self._solve()
         if self.params.release_upwinding:
             film = self.film
-            its += release_discrete_upwinding(
+            n, self.upwinding_weight = release_discrete_upwinding(
                 self.solver, [film.P, film.theta_fn], "rough band: release"
-            )[0]
-            self.path += ", released"
+            )
+            its += n
+            self.path += ", released" if self.upwinding_weight == 0.0 else " (partly)"
         return its
 
     def _solve(self) -> int:

@@ -143,7 +143,9 @@ class FilmParams:
             weight solved from the last film
             (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
             so that the film reported is the default scheme's (its leakage)
-            and the discrete upwinding only the path to it.
+            and the discrete upwinding only the path to it; where a weight
+            step below 1/256 fails, the film keeps the last weight solved
+            (the result ``discrete_upwinding_weight``, 0 when released).
     """
 
     viscosity: float = 0.1

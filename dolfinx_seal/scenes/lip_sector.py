@@ -443,6 +443,9 @@ class SectorLip:
         film_only: The frozen-lip film solver (``feedback = false``), else None.
         film_polish: The film solver that finishes a coupled point
             (``feedback = true``, :func:`polish_film`), else None.
+        upwinding_weight: With ``film.discrete_upwinding``, the weight of its
+            term in the last film solved (1; with ``film.release_upwinding`` 0,
+            or the smallest weight that converged).
         steps: Newton steps and time of each stage.
     """
 
@@ -454,6 +457,7 @@ class SectorLip:
     angle: float
     film_only: Any = None
     film_polish: Any = None
+    upwinding_weight: float = 1.0
     steps: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -704,7 +708,10 @@ FILM_ONLY_TOLERANCES = {"rtol": 1e-20, "atol": 1e-300, "dtol": 1e300, "max_it": 
 def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = True) -> int:
     """Solve the film on the frozen lip with ``solver`` (default ``lub.film_only``,
     ``feedback = false``; the coupled sliding sector's predictor passes
-    ``lub.film_polish``); returns the Newton steps.
+    ``lub.film_polish`` and ``release = false``); returns the Newton steps.
+    With ``film.release_upwinding`` (and ``release``) the discrete upwinding is
+    then walked down (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
+    its final weight kept in ``lub.upwinding_weight``.
 
     Without JFO one Newton solve.  With JFO the fixed-pattern semismooth Newton
     (``semismooth``: identity rows at the bounds the natural residual
@@ -727,7 +734,8 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
     film = lub.problem.film
     its = _solve_jfo_film(lub, where, solver)
     if release and film.params.release_upwinding:
-        its += release_discrete_upwinding(solver, [film.P, film.theta_fn], where)[0]
+        n, lub.upwinding_weight = release_discrete_upwinding(solver, [film.P, film.theta_fn], where)
+        its += n
     return its
 
 
@@ -805,11 +813,9 @@ def polish_film(lub: SectorLip, where: str) -> int:
     if lub.film_polish is None:
         return 0
     fp = lub.problem.film.params
-    if fp.discrete_upwinding and not fp.release_upwinding:  # this lip's
-        attach_discrete_upwinding(lub.film_polish)
-    elif lub.film_polish.linear_term is not None:  # released: the predictor's term goes
-        lub.film_polish.linear_term.destroy()
-        lub.film_polish.linear_term = None
+    if fp.discrete_upwinding:  # this lip's, at the coupled point's weight
+        weight = lub.upwinding_weight if fp.release_upwinding else 1.0
+        attach_discrete_upwinding(lub.film_polish, weight=weight)
     return lub.film_polish.solve(where=f"{where}: film on the converged lip").newton_iterations
 
 
@@ -971,6 +977,8 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         out.update(_cavitation_place(lub, z_c))
     if film.has_couette:
         out.update(_sliding_results(lub, params, band_area))
+    if film.params.discrete_upwinding:
+        out["discrete_upwinding_weight"] = lub.upwinding_weight
     if prob.control == "force":  # lift = true: how far the film lifts the lip [m]
         out["lip_lift"] = R_s - prob.counter_position()
     return out
@@ -1195,9 +1203,10 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
         if upwinding:
             its += _settle_upwinding(lub, where)
             if prob.film.params.release_upwinding:
-                its += release_discrete_upwinding(
+                n, lub.upwinding_weight = release_discrete_upwinding(
                     solver, [b[1] for b in prob.blocks], f"{where}: coupled"
-                )[0]
+                )
+                its += n
     return its + polish_film(lub, where)
 
 

@@ -74,3 +74,62 @@ def test_corrected_transport_is_upwind_and_conservative(convection):
     np.fill_diagonal(expect, 0.0)
     np.fill_diagonal(D, 0.0)
     assert np.abs(D - expect).max() <= 1e-15 * scale
+
+
+class _WeightSolver:
+    """A stand-in for a film solver whose Newton converges only while the discrete
+    upwinding's weight (its 1 x 1 term's entry) is at least ``lowest``; a failed
+    solve scribbles on the unknown, a converged one writes the weight into it."""
+
+    def __init__(self, lowest: float, unknown) -> None:
+        from petsc4py import PETSc
+
+        self.lowest, self.unknown, self.tried = lowest, unknown, []
+        M = PETSc.Mat().createAIJ([1, 1], nnz=1, comm=MPI.COMM_SELF)
+        M.setValue(0, 0, 1.0)
+        M.assemble()
+        self.linear_term = M
+
+    def solve(self, where: str):
+        from types import SimpleNamespace
+
+        from dolfinx_seal.errors import SolveHistory, SolverError
+
+        w = 0.0 if self.linear_term is None else self.linear_term.getValue(0, 0)
+        self.tried.append(w)
+        if w < self.lowest:
+            self.unknown.x.array[:] = np.nan
+            raise SolverError("stand-in divergence", where,
+                              history=SolveHistory(residual_norms=[1.0] * 4))  # fmt: skip
+        self.unknown.x.array[:] = w
+        return SimpleNamespace(newton_iterations=2)
+
+
+def _unknown():
+    from types import SimpleNamespace
+
+    return SimpleNamespace(x=SimpleNamespace(array=np.zeros(4)))
+
+
+@pytest.mark.parametrize("lowest", [0.0, 0.3, 0.01, 0.6])
+def test_release_walks_the_weight_down_as_far_as_it_converges(lowest):
+    """``release_discrete_upwinding``: the weight halves from 1, a failed step is
+    retried at the midpoint from the last film, and the walk stops when a step
+    would be shorter than 1/256: it keeps the last weight solved (its term and its
+    film), within 2/256 above the lowest weight that converges.  With every weight
+    converging it ends at 0 with no term left."""
+    from dolfinx_seal.film.upwinding import release_discrete_upwinding
+
+    u = _unknown()
+    solver = _WeightSolver(lowest, u)
+    its, got = release_discrete_upwinding(solver, [u], "stand-in")
+    if lowest == 0.0:
+        assert got == 0.0 and solver.linear_term is None
+    else:
+        assert lowest <= got < lowest + 2.0 / 256
+        assert solver.linear_term.getValue(0, 0) == pytest.approx(got, rel=1e-15)
+    assert np.all(u.x.array == got)  # the film of the weight kept, not a failed one's
+    solved = [w for w in solver.tried if w >= lowest]
+    failed = [w for w in solver.tried if w < lowest]
+    assert its == 2 * len(solved) + 3 * len(failed)
+    assert solved == sorted(solved, reverse=True)  # the weight only goes down

@@ -414,26 +414,31 @@ def test_sliding_bad_input_names_the_parameter(values, name):
         make_parameters("lip-dynamic", values=values)
 
 
-def test_discrete_upwinding_leaves_a_full_film_alone(sliding):
+@pytest.mark.parametrize("release", [False, True])
+def test_discrete_upwinding_leaves_a_full_film_alone(sliding, release):
     """``film.discrete_upwinding`` adds ``-D theta`` to the film rows, with ``D``
     symmetric and of zero row sums: on a full film (``theta = 1``; the CHECK sector's
     axisymmetric gap does not cavitate) it vanishes, so the fixture's films come back
     to the solver's tolerance (the tolerances of
     ``test_speed_sweep_gives_the_films_of_the_fixture``).  Not vacuous: on this
     band's triangles the correction is not zero (its infinity norm, the largest row sum, is checked
-    against the transport block's: above 1e-3 of it), and the nodal balance includes it."""
+    against the transport block's: above 1e-3 of it), and the nodal balance includes it.
+    With ``film.release_upwinding`` the term is walked to 0 after each film solve
+    and removed: the same films, the norm checked on a term built afresh."""
     from petsc4py import PETSc
 
-    from dolfinx_seal.film.upwinding import transport_block
+    from dolfinx_seal.film.upwinding import attach_discrete_upwinding, transport_block
     from dolfinx_seal.scenes import lip_sector
 
-    p = make_parameters("lip-dynamic", values={**CHECK, "film": {"speed": SPEEDS[0],
-                                                                 "discrete_upwinding": True}})  # fmt: skip
+    film = {"speed": SPEEDS[0], "discrete_upwinding": True, "release_upwinding": release}
+    p = make_parameters("lip-dynamic", values={**CHECK, "film": film})
     lub = lip_sector.build(p)
     try:
         rows = _speed_rows(lub, p, SPEEDS)
+        assert (lub.film_only.linear_term is None) == release
+        if release:
+            attach_discrete_upwinding(lub.film_only)
         M = lub.film_only.linear_term
-        assert M is not None
         C = transport_block(lub.film_only)
         ratio = M.norm(PETSc.NormType.NORM_INFINITY) / C.norm(PETSc.NormType.NORM_INFINITY)
         C.destroy()
@@ -488,23 +493,27 @@ def coupled_sliding():
         lub.destroy()
 
 
-def test_discrete_upwinding_leaves_the_coupled_full_film_alone(coupled_sliding):
+@pytest.mark.parametrize("release", [False, True])
+def test_discrete_upwinding_leaves_the_coupled_full_film_alone(coupled_sliding, release):
     """``film.discrete_upwinding`` on the coupled lip (the term rebuilt on each
     converged lip until a solve starts converged): on the CHECK sector's full film
     it vanishes, so the fixture's points come back, to the solver's tolerance:
     1e-7 on the leakage and 1e-9 on the torque, as the frozen film's
-    ``test_discrete_upwinding_leaves_a_full_film_alone``."""
+    ``test_discrete_upwinding_leaves_a_full_film_alone``.  With
+    ``film.release_upwinding`` the term is walked to 0 on the coupled lip and
+    removed, and the polish runs without it: the same points."""
     from dolfinx_seal.scenes import lip_sector
 
-    p = make_parameters("lip-dynamic", values={**CHECK, "feedback": True,
-                        "film": {"speed": SPEEDS[0], "discrete_upwinding": True}})  # fmt: skip
+    film = {"speed": SPEEDS[0], "discrete_upwinding": True, "release_upwinding": release}
+    p = make_parameters("lip-dynamic", values={**CHECK, "feedback": True, "film": film})
     lub = lip_sector.build(p)
     try:
         rows = [lip_sector.solve_point(lub, p)]
         pv = set_parameter(p, "film.speed", SPEEDS[1])
         lip_sector.solve_speed(lub, pv)
         rows.append(lip_sector.results(lub, pv))
-        assert lub.problem.solver.linear_term is not None
+        assert (lub.problem.solver.linear_term is None) == release
+        assert (lub.film_polish.linear_term is None) == release
     finally:
         lub.destroy()
     for r, ref in zip(rows, coupled_sliding, strict=True):
