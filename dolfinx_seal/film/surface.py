@@ -140,8 +140,9 @@ class FilmParams:
             default is within 1.2 % and 17 %; docs/verification.md).
         release_upwinding: With ``discrete_upwinding``: once the monotone film
             has converged, walk the discrete upwinding's weight down to 0, each
-            weight solved from the last film
-            (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
+            weight solved from the last film (on the lip sector a failed weight
+            step tried again by pseudo-time steps,
+            :func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
             so that the film reported is the default scheme's (its leakage)
             and the discrete upwinding only the path to it; where a weight
             step below 1/256 fails, the film keeps the last weight solved

@@ -52,6 +52,7 @@ film and pseudo-time takes 212-237 steps, the walk takes 48-51.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -189,7 +190,11 @@ def _transport_correction(solver: Any, pressure: int, fraction: int) -> PETSc.Ma
 
 
 def release_discrete_upwinding(
-    solver: Any, unknowns: Any, where: str, min_step: float = 1.0 / 256.0
+    solver: Any,
+    unknowns: Any,
+    where: str,
+    min_step: float = 1.0 / 256.0,
+    fallback: Callable[[str], int] | None = None,
 ) -> tuple[int, float]:
     """Walk the weight of the solver's discrete upwinding term from 1 towards 0,
     each weight solved from the last film: the film of the scheme without the
@@ -198,7 +203,9 @@ def release_discrete_upwinding(
     The weight halves from 1 (0.5, 0.25, ... while at least ``min_step``), then
     goes to 0; a failed step is retried at the midpoint of the last weight solved
     and its target, from that weight's film (``unknowns``, the functions to
-    restore).  When a step would be shorter than ``min_step`` the walk stops
+    restore); ``fallback(where)``, if given, is tried first on a failed step
+    (e.g. pseudo-time steps of the film at that weight), from the same film, and
+    returns its Newton steps or raises :class:`SolverError`.  When a step would be shorter than ``min_step`` the walk stops
     there: the term stays at the last weight solved and the film at its
     solution (logged).  Returns ``(newton_steps, weight)``: ``weight`` 0 when
     released, else the weight kept (the term is then that weight times the
@@ -218,12 +225,25 @@ def release_discrete_upwinding(
     while targets:
         w = targets[0]
         solver.linear_term = _scaled(base, w)
+        at = f"{where}: discrete upwinding at {w:.4g}"
         try:
-            its += solver.solve(where=f"{where}: discrete upwinding at {w:.4g}").newton_iterations
+            its += solver.solve(where=at).newton_iterations
         except SolverError as e:
             its += e.history.newton_iterations if e.history else 0
-            _drop(solver)
             restore_arrays(unknowns, saved)
+            if fallback is not None:
+                try:
+                    its += fallback(at)
+                except SolverError as e2:
+                    its += e2.history.newton_iterations if e2.history else 0
+                    restore_arrays(unknowns, saved)
+                else:
+                    targets.pop(0)
+                    good = w
+                    saved = [u.x.array.copy() for u in unknowns]
+                    _drop(solver)
+                    continue
+            _drop(solver)
             mid = 0.5 * (good + w)
             if good - mid < min_step:
                 get_logger().warning(

@@ -710,8 +710,9 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
     ``feedback = false``; the coupled sliding sector's predictor passes
     ``lub.film_polish`` and ``release = false``); returns the Newton steps.
     With ``film.release_upwinding`` (and ``release``) the discrete upwinding is
-    then walked down (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`),
-    its final weight kept in ``lub.upwinding_weight``.
+    then walked down (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`,
+    a failed weight step tried again by pseudo-time steps), its final weight kept
+    in ``lub.upwinding_weight``.
 
     Without JFO one Newton solve.  With JFO the fixed-pattern semismooth Newton
     (``semismooth``: identity rows at the bounds the natural residual
@@ -734,7 +735,10 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
     film = lub.problem.film
     its = _solve_jfo_film(lub, where, solver)
     if release and film.params.release_upwinding:
-        n, lub.upwinding_weight = release_discrete_upwinding(solver, [film.P, film.theta_fn], where)
+        n, lub.upwinding_weight = release_discrete_upwinding(
+            solver, [film.P, film.theta_fn], where,
+            fallback=lambda at: pseudo_transient_solve(film, solver, at),
+        )  # fmt: skip
         its += n
     return its
 

@@ -133,3 +133,33 @@ def test_release_walks_the_weight_down_as_far_as_it_converges(lowest):
     failed = [w for w in solver.tried if w < lowest]
     assert its == 2 * len(solved) + 3 * len(failed)
     assert solved == sorted(solved, reverse=True)  # the weight only goes down
+
+
+@pytest.mark.parametrize("rescues", [False, True])
+def test_release_tries_the_fallback_on_a_failed_step(rescues):
+    """A ``fallback`` (e.g. pseudo-time steps) is tried from the last film on each
+    failed weight step: when it converges the walk goes on from its film and
+    reaches 0; when it fails too, the walk bisects as without it."""
+    from dolfinx_seal.errors import SolveHistory, SolverError
+    from dolfinx_seal.film.upwinding import release_discrete_upwinding
+
+    u = _unknown()
+    solver = _WeightSolver(0.3, u)
+    calls = []
+
+    def fallback(where: str) -> int:
+        w = 0.0 if solver.linear_term is None else solver.linear_term.getValue(0, 0)
+        calls.append(w)
+        assert np.all(u.x.array > w)  # from the last film solved, above w, not the failed one
+        if not rescues:
+            raise SolverError("stand-in", where, history=SolveHistory(residual_norms=[1.0] * 6))
+        u.x.array[:] = w
+        return 7
+
+    _, got = release_discrete_upwinding(solver, [u], "stand-in", fallback=fallback)
+    if rescues:
+        assert got == 0.0 and solver.linear_term is None and np.all(u.x.array == 0.0)
+        assert calls == [w for w in solver.tried if w < 0.3]
+    else:
+        assert 0.3 <= got < 0.3 + 2.0 / 256
+        assert len(calls) == len([w for w in solver.tried if w < 0.3])
