@@ -95,6 +95,8 @@ def main() -> None:
                 if comm.rank == 0:
                     with out.open("a", newline="") as f:
                         csv.DictWriter(f, FIELDS).writerow(row)
+                    done = row["note"] or f"leakage error {100 * row['leakage_error']:+.2f} %"
+                    print(f"  {n} per period, {name}: {done}, {row['time_s']:.1f} s", flush=True)
     if comm.rank == 0:
         print("| speed | el/period | scheme | Newton | time [s] | leakage error | "
               "load error | cavitated (error) |")  # fmt: skip

@@ -226,23 +226,20 @@ def release_discrete_upwinding(
         w = targets[0]
         solver.linear_term = _scaled(base, w)
         at = f"{where}: discrete upwinding at {w:.4g}"
-        try:
-            its += solver.solve(where=at).newton_iterations
-        except SolverError as e:
-            its += e.history.newton_iterations if e.history else 0
-            restore_arrays(unknowns, saved)
-            if fallback is not None:
-                try:
-                    its += fallback(at)
-                except SolverError as e2:
-                    its += e2.history.newton_iterations if e2.history else 0
-                    restore_arrays(unknowns, saved)
-                else:
-                    targets.pop(0)
-                    good = w
-                    saved = [u.x.array.copy() for u in unknowns]
-                    _drop(solver)
-                    continue
+        attempts = [lambda where: solver.solve(where=where).newton_iterations]
+        if fallback is not None:
+            attempts.append(fallback)
+        failure = None
+        for attempt in attempts:  # each from the last film solved
+            try:
+                its += attempt(at)
+                failure = None
+                break
+            except SolverError as e:
+                its += e.history.newton_iterations if e.history else 0
+                restore_arrays(unknowns, saved)
+                failure = e
+        if failure is not None:
             _drop(solver)
             mid = 0.5 * (good + w)
             if good - mid < min_step:
@@ -252,7 +249,7 @@ def release_discrete_upwinding(
                     where,
                     good,
                     w,
-                    e.what,
+                    failure.what,
                 )
                 solver.linear_term = _scaled(base, good)
                 break
