@@ -169,8 +169,9 @@ def main(argv: list[str] | None = None) -> None:
     if dry:
         rows = [{k: res[k] for k in ("dofs", "newton_iterations", "wall_time_s")}]
     else:
-        rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(folder / "sweep.csv")] \
-            if COMM_WORLD.rank == 0 else []  # fmt: skip
+        done = folder / "sweep.csv"  # absent when the first point failed
+        rows = [{k: parse_cell(v) for k, v in r.items()} for r in read_csv(done)] \
+            if COMM_WORLD.rank == 0 and done.exists() else []  # fmt: skip
         rows = COMM_WORLD.bcast(rows, root=0)
     steps = [int(r["newton_iterations"]) for r in rows]
     times = [float(r["wall_time_s"]) for r in rows]
