@@ -6,11 +6,13 @@
   (INFOG(21): largest on one rank, INFOG(22): total, MB) and the results.
 * ``dynamic``: a speed sweep of ``lip-dynamic`` (six speeds by default) from one
   sector pressurised at the slowest speed and walked up (``lip_sector.sweep``;
-  ``--set feedback=true`` for the coupled sector, the lip deformed by the film;
-  its matrix is the static point's, see its MUMPS memory there): per point, in
+  ``--set feedback=true`` for the coupled sector, the lip deformed by the film):
+  per point, in
   the order solved, the Newton steps,
   continuation steps, time, friction torque and its parts, leakage or pumping
-  rate, cavitation fraction and place, counter-gradient fraction, mass balance;
+  rate, cavitation fraction and place, counter-gradient fraction, mass balance,
+  MUMPS memory of the factorisations the solvers hold (``factor_memory_mb``,
+  all ranks; ``factor_memory_rank_mb``, the largest rank);
   targets not reached are in ``sweep_failures.csv``.
 * ``--solver FIELD=VALUE`` sets :class:`~dolfinx_seal.solvers.SNESOptions` fields of
   every solver (e.g. ``factor_reuse_its=8``: a kept factorisation preconditioning
@@ -58,15 +60,9 @@ KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction
 
 def mumps_memory(solver: Any, prefix: str = "mumps") -> dict[str, float]:
     """MUMPS INFOG(21) (largest on one rank) and INFOG(22) (total) [MB] of the last
-    factorisation of ``solver`` (a :class:`~dolfinx_seal.solvers.NonlinearSolver`)."""
-    try:
-        F = solver._snes.getKSP().getPC().getFactorMatrix()
-        return {
-            f"{prefix}_mb_max": float(F.getMumpsInfog(21)),
-            f"{prefix}_mb_total": float(F.getMumpsInfog(22)),
-        }
-    except Exception:  # not factored by MUMPS (yet)
-        return {}
+    factorisation of ``solver`` (:meth:`~dolfinx_seal.solvers.NonlinearSolver.factor_memory_mb`)."""
+    held = solver.factor_memory_mb()
+    return {} if held is None else {f"{prefix}_mb_max": held[0], f"{prefix}_mb_total": held[1]}
 
 
 def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
@@ -136,7 +132,9 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
                "radial_load": r["radial_load"],
                "mass_balance_error": r["mass_balance_error"],
                "nodal_mass_balance_error": r["nodal_mass_balance_error"],
-               "discrete_upwinding_weight": r.get("discrete_upwinding_weight", math.nan)}  # fmt: skip
+               "discrete_upwinding_weight": r.get("discrete_upwinding_weight", math.nan),
+               "factor_memory_mb": r.get("factor_memory_mb", math.nan),
+               "factor_memory_rank_mb": r.get("factor_memory_rank_mb", math.nan)}  # fmt: skip
         t_last[0] = now
         rows.append(row)
         writer.append(row)

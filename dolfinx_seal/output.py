@@ -85,6 +85,12 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "contact_width": ("m", "axial width of the contact band (lip seals)", True),
     "dofs": ("", "number of unknowns", False),
     "ranks": ("", "MPI processes", False),
+    "factor_memory_mb": (
+        "MB", "MUMPS memory of the factorisations the solvers hold, all ranks", False,
+    ),
+    "factor_memory_rank_mb": (
+        "MB", "MUMPS memory of the factorisations the solvers hold, largest rank", False,
+    ),
     "newton_iterations": ("", "Newton steps", False),
     "linear_iterations": ("", "Krylov iterations", False),
     "wall_time_s": ("s", "wall time", True),

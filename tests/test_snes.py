@@ -610,3 +610,31 @@ def test_destroy_removes_the_options_it_set():
     assert any(k.startswith(solver.prefix) for k in added)
     solver.destroy()
     assert set(PETSc.Options().getAll()) == before
+
+
+def test_factor_memory_is_the_mumps_factorisation_the_solver_holds():
+    """``factor_memory_mb`` reads the factor the solver holds: none before a solve;
+    after one, MUMPS's largest rank <= total <= ranks x largest, at least the
+    factor's own entries (INFOG(29), 8 bytes each), larger on a finer mesh; and the
+    same through the full-pattern work matrix of a VI as through PETSc's LU."""
+    comm = MPI.COMM_WORLD
+    sizes = {}
+    for n in (24, 96):
+        solver, _, _ = _nonlinear_poisson(comm, n=n)
+        assert solver.factor_memory_mb() is None
+        solver.solve()
+        biggest, total = solver.factor_memory_mb()
+        F = solver.snes.getKSP().getPC().getFactorMatrix()
+        entries = F.getMumpsInfog(29)  # negative: millions of entries
+        entries = -1e6 * entries if entries < 0 else entries
+        assert 0 < biggest <= total <= comm.size * biggest + 1
+        assert total + 1.0 >= 8.0 * entries / 1e6  # whole MB
+        sizes[n] = total
+        solver.destroy()
+    assert sizes[96] > sizes[24]
+    for mode in ("submatrix", "full_pattern"):
+        solver, _ = _string_on_obstacle(comm, options=SNESOptions(vi_linear_solve=mode))
+        solver.solve()
+        held = solver.factor_memory_mb()
+        assert held is not None and 0 <= held[0] <= held[1]  # 200 unknowns: below 1 MB
+        solver.destroy()

@@ -983,9 +983,28 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         out.update(_sliding_results(lub, params, band_area))
     if film.params.discrete_upwinding:
         out["discrete_upwinding_weight"] = lub.upwinding_weight
+    out.update(factor_memory(lub))
     if prob.control == "force":  # lift = true: how far the film lifts the lip [m]
         out["lip_lift"] = R_s - prob.counter_position()
     return out
+
+
+def factor_memory(lub: SectorLip) -> dict[str, float]:
+    """MUMPS memory of the factorisations the sector's solvers hold [MB] (the
+    coupled problem's and the film solver's,
+    :meth:`~dolfinx_seal.solvers.NonlinearSolver.factor_memory_mb`):
+    ``factor_memory_mb``, summed over the solvers and the ranks, and
+    ``factor_memory_rank_mb``, the sum over the solvers of the largest on one
+    rank (at least the largest rank's share).  Empty before any factorisation."""
+    held = [s.factor_memory_mb() for s in (lub.problem.solver, lub.film_only, lub.film_polish)
+            if s is not None]  # fmt: skip
+    held = [m for m in held if m is not None]
+    if not held:
+        return {}
+    return {
+        "factor_memory_mb": sum(m[1] for m in held),
+        "factor_memory_rank_mb": sum(m[0] for m in held),
+    }
 
 
 def dimensionless_speed(params: LipStaticParameters, speed: float) -> float:

@@ -1016,6 +1016,29 @@ class NonlinearSolver:
         F.destroy()
         return float(np.sqrt(self.comm.allreduce(float(r @ r))))
 
+    def factor_memory_mb(self) -> tuple[float, float] | None:
+        """Memory of the last MUMPS factorisation this solver holds [MB]: (the
+        largest on one rank, INFOG(21); the sum over the ranks, INFOG(22)), in
+        MUMPS's whole millions of bytes (0 below 1 MB).
+
+        The factor is the SNES's own LU, or with ``vi_linear_solve =
+        'full_pattern'`` the work matrix's (:class:`_FullPatternLU`).  None when
+        the solver has not factorised yet or its factor is not MUMPS's
+        (collective).
+        """
+        factors = [self._full_lu.factor()] if self._full_lu is not None else []
+        pc = self._snes.getKSP().getPC()
+        if pc.getType() in ("lu", "cholesky"):
+            try:
+                factors.append(pc.getFactorMatrix())
+            except PETSc.Error:  # not set up yet
+                pass
+        for F in factors:
+            # INFOG(29), the factor's entries, is 0 before the first factorisation
+            if F is not None and F.getType() == "mumps" and F.getMumpsInfog(29) != 0:
+                return float(F.getMumpsInfog(21)), float(F.getMumpsInfog(22))
+        return None
+
     @property
     def snes(self) -> PETSc.SNES:
         """The underlying PETSc SNES."""

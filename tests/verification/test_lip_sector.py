@@ -216,6 +216,16 @@ def coupled_static():
         lub.destroy()
 
 
+def test_a_point_reports_the_memory_of_its_factorisations(coupled_static):
+    """``factor_memory_mb`` sums MUMPS's memory of the coupled problem's and the film
+    solver's factorisations over the ranks; ``factor_memory_rank_mb`` sums their
+    largest rank's.  Each factor of a matrix with ``dofs`` rows holds at least one
+    entry (8 bytes) per row; the sum over the ranks is at least the largest."""
+    r = coupled_static
+    total, rank = r["factor_memory_mb"], r["factor_memory_rank_mb"]
+    assert 8.0 * r["dofs"] / 1e6 <= rank <= total <= MPI.COMM_WORLD.size * rank + 2
+
+
 def test_coupled_film_conserves_mass(coupled_static):
     """With the film pressure on the lip (``feedback = true``) the coupled Newton stops
     at the solid rows' round-off, below which the film's flow lies; the point is
