@@ -11,8 +11,9 @@
   the order solved, the Newton steps,
   continuation steps, time, friction torque and its parts, leakage or pumping
   rate, cavitation fraction and place, counter-gradient fraction, mass balance,
-  MUMPS memory of the factorisations the solvers hold (``factor_memory_mb``,
-  all ranks; ``factor_memory_rank_mb``, the largest rank);
+  MUMPS memory (``factor_memory_mb``: the factorisations the solvers hold;
+  ``factor_memory_peak_mb``: each solver's largest, summed; all ranks;
+  ``factor_memory_peak_rank_mb``: the same of the largest rank);
   targets not reached are in ``sweep_failures.csv``.
 * ``--solver FIELD=VALUE`` sets :class:`~dolfinx_seal.solvers.SNESOptions` fields of
   every solver (e.g. ``factor_reuse_its=8``: a kept factorisation preconditioning
@@ -134,7 +135,8 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
                "nodal_mass_balance_error": r["nodal_mass_balance_error"],
                "discrete_upwinding_weight": r.get("discrete_upwinding_weight", math.nan),
                "factor_memory_mb": r.get("factor_memory_mb", math.nan),
-               "factor_memory_rank_mb": r.get("factor_memory_rank_mb", math.nan)}  # fmt: skip
+               "factor_memory_peak_mb": r.get("factor_memory_peak_mb", math.nan),
+               "factor_memory_peak_rank_mb": r.get("factor_memory_peak_rank_mb", math.nan)}  # fmt: skip
         t_last[0] = now
         rows.append(row)
         writer.append(row)

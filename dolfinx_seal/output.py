@@ -86,10 +86,14 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "dofs": ("", "number of unknowns", False),
     "ranks": ("", "MPI processes", False),
     "factor_memory_mb": (
-        "MB", "MUMPS memory of the factorisations the solvers hold, all ranks", False,
+        "MB", "MUMPS memory of the factorisations the solvers hold now, all ranks", False,
     ),
-    "factor_memory_rank_mb": (
-        "MB", "MUMPS memory of the factorisations the solvers hold, largest rank", False,
+    "factor_memory_peak_mb": (
+        "MB", "MUMPS memory of the largest factorisation of each solver, summed, all ranks",
+        False,
+    ),
+    "factor_memory_peak_rank_mb": (
+        "MB", "the same, each solver's largest rank", False,
     ),
     "newton_iterations": ("", "Newton steps", False),
     "linear_iterations": ("", "Krylov iterations", False),

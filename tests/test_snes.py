@@ -613,8 +613,8 @@ def test_destroy_removes_the_options_it_set():
 
 
 def test_factor_memory_is_the_mumps_factorisation_the_solver_holds():
-    """``factor_memory_mb`` reads the factor the solver holds: none before a solve;
-    after one, MUMPS's largest rank <= total <= ranks x largest, at least the
+    """``factor_memory_mb`` reads the factor the solver holds (and
+    ``peak_factor_memory_mb`` keeps it): none before a solve; after one, MUMPS's largest rank <= total <= ranks x largest, at least the
     factor's own entries (INFOG(29), 8 bytes each), larger on a finer mesh; and the
     same through the full-pattern work matrix of a VI as through PETSc's LU."""
     comm = MPI.COMM_WORLD
@@ -622,8 +622,10 @@ def test_factor_memory_is_the_mumps_factorisation_the_solver_holds():
     for n in (24, 96):
         solver, _, _ = _nonlinear_poisson(comm, n=n)
         assert solver.factor_memory_mb() is None
+        assert solver.peak_factor_memory_mb == (0.0, 0.0)
         solver.solve()
         biggest, total = solver.factor_memory_mb()
+        assert solver.peak_factor_memory_mb == (biggest, total)
         F = solver.snes.getKSP().getPC().getFactorMatrix()
         entries = F.getMumpsInfog(29)  # negative: millions of entries
         entries = -1e6 * entries if entries < 0 else entries

@@ -990,20 +990,23 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
 
 
 def factor_memory(lub: SectorLip) -> dict[str, float]:
-    """MUMPS memory of the factorisations the sector's solvers hold [MB] (the
-    coupled problem's and the film solver's,
-    :meth:`~dolfinx_seal.solvers.NonlinearSolver.factor_memory_mb`):
-    ``factor_memory_mb``, summed over the solvers and the ranks, and
-    ``factor_memory_rank_mb``, the sum over the solvers of the largest on one
-    rank (at least the largest rank's share).  Empty before any factorisation."""
-    held = [s.factor_memory_mb() for s in (lub.problem.solver, lub.film_only, lub.film_polish)
-            if s is not None]  # fmt: skip
-    held = [m for m in held if m is not None]
-    if not held:
+    """MUMPS memory of the factorisations of the sector's solvers (the coupled
+    problem's and the film solver's) [MB]: ``factor_memory_mb``, what they hold
+    now (:meth:`~dolfinx_seal.solvers.NonlinearSolver.factor_memory_mb`), and
+    ``factor_memory_peak_mb``, the sum of each solver's largest at the end of a
+    solve (the dry stage's for a frozen lip, whose problem solver is freed once
+    the film alone is solved), both summed over the ranks;
+    ``factor_memory_peak_rank_mb``, the same sum of each solver's largest rank
+    (at least the largest rank's share).  Empty before any factorisation."""
+    solvers = [s for s in (lub.problem.solver, lub.film_only, lub.film_polish) if s is not None]
+    held = [m for m in (s.factor_memory_mb() for s in solvers) if m is not None]
+    peak = [s.peak_factor_memory_mb for s in solvers]
+    if not held and not any(m[1] for m in peak):
         return {}
     return {
         "factor_memory_mb": sum(m[1] for m in held),
-        "factor_memory_rank_mb": sum(m[0] for m in held),
+        "factor_memory_peak_mb": sum(m[1] for m in peak),
+        "factor_memory_peak_rank_mb": sum(m[0] for m in peak),
     }
 
 

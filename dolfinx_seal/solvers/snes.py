@@ -368,6 +368,10 @@ class NonlinearSolver:
         self._main_solve = False  # inside SNESSolve of the main SNES
         self._ssn_point: np.ndarray | None = None  # where the active rows were found
         self._ssn_rows = np.zeros(0, dtype=np.int32)  # owned rows at an active bound
+        #: the largest :meth:`factor_memory_mb` at the end of a solve [MB] (largest
+        #: rank, all ranks; (0, 0) before the first): what the solver needed at most,
+        #: where :meth:`factor_memory_mb` is what it holds now
+        self.peak_factor_memory_mb: tuple[float, float] = (0.0, 0.0)
         self.factor_rebuilds = 0  # factorisations kept (factor_reuse_its > 0): rebuilds
         if self._ssn:  # identity rows written into the assembled pattern
             self.A.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
@@ -761,6 +765,9 @@ class NonlinearSolver:
         finally:
             self._ssn_on = self._main_solve = False
         self.wall_time = time.perf_counter() - t0
+        held = self.factor_memory_mb()
+        if held is not None:
+            self.peak_factor_memory_mb = tuple(map(max, self.peak_factor_memory_mb, held))
         self._to_functions(self.x)
         reason = snes.getConvergedReason()
         self.history.reason = int(reason)
