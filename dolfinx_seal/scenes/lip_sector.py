@@ -705,6 +705,12 @@ def set_sealed_pressures(lub: SectorLip, oil: float, air: float) -> None:
 FILM_ONLY_TOLERANCES = {"rtol": 1e-20, "atol": 1e-300, "dtol": 1e300, "max_it": 150}
 
 
+#: Newton steps of each solve in the release of the frozen film's discrete upwinding
+#: (a weight step, and each of its pseudo-time steps), against FILM_ONLY_TOLERANCES'
+#: 150 for a film solved from afar
+RELEASE_MAX_NEWTON = 30
+
+
 def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = True) -> int:
     """Solve the film on the frozen lip with ``solver`` (default ``lub.film_only``,
     ``feedback = false``; the coupled sliding sector's predictor passes
@@ -738,6 +744,7 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
         n, lub.upwinding_weight = release_discrete_upwinding(
             solver, [film.P, film.theta_fn], where,
             fallback=lambda at: pseudo_transient_solve(film, solver, at),
+            max_newton=RELEASE_MAX_NEWTON,
         )  # fmt: skip
         its += n
     return its

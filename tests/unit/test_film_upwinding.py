@@ -6,6 +6,8 @@ upwind.  At 1, 2 and 3 ranks (the transpose crosses ranks)."""
 
 from __future__ import annotations
 
+import contextlib
+
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
@@ -85,10 +87,19 @@ class _WeightSolver:
         from petsc4py import PETSc
 
         self.lowest, self.unknown, self.tried = lowest, unknown, []
+        self.limit, self.limits = 0, []  # newton_limit's cap (0: none), at each solve
         M = PETSc.Mat().createAIJ([1, 1], nnz=1, comm=MPI.COMM_SELF)
         M.setValue(0, 0, 1.0)
         M.assemble()
         self.linear_term = M
+
+    @contextlib.contextmanager
+    def newton_limit(self, max_newton: int, stall_steps: int = 0):
+        before, self.limit = self.limit, max_newton
+        try:
+            yield
+        finally:
+            self.limit = before
 
     def solve(self, where: str):
         from types import SimpleNamespace
@@ -97,6 +108,7 @@ class _WeightSolver:
 
         w = 0.0 if self.linear_term is None else self.linear_term.getValue(0, 0)
         self.tried.append(w)
+        self.limits.append(self.limit)
         if w < self.lowest:
             self.unknown.x.array[:] = np.nan
             raise SolverError("stand-in divergence", where,
@@ -163,3 +175,22 @@ def test_release_tries_the_fallback_on_a_failed_step(rescues):
     else:
         assert 0.3 <= got < 0.3 + 2.0 / 256
         assert len(calls) == len([w for w in solver.tried if w < 0.3])
+
+
+def test_release_caps_the_newton_steps_of_every_attempt():
+    """``max_newton`` holds for every solve of the walk, the fallback's included, and
+    is lifted when the walk ends; without it the solver keeps its own limit."""
+    from dolfinx_seal.film.upwinding import release_discrete_upwinding
+
+    for cap in (0, 7):
+        u = _unknown()
+        solver = _WeightSolver(0.3, u)
+        seen = []
+
+        def fallback(where: str, solver=solver, seen=seen) -> int:
+            seen.append(solver.limit)
+            return solver.solve(where).newton_iterations
+
+        release_discrete_upwinding(solver, [u], "stand-in", fallback=fallback, max_newton=cap)
+        assert solver.limits and set(solver.limits) == {cap} and set(seen) == {cap}
+        assert solver.limit == 0
