@@ -73,7 +73,7 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
         "-", "share of the fluid load carried where the gap is at its floor", False,
     ),
     "discrete_upwinding_weight": (
-        "-", "weight of film.discrete_upwinding's term in the film (0: released)", False,
+        "-", "weight of film.discrete_upwinding's term in the film (0: the default scheme's)", False,
     ),
     "max_contact_pressure": ("Pa", "peak asperity contact pressure", True),
     "leakage_rate": ("m^3/s", "volume flow through the seal", True),

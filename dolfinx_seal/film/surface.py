@@ -138,6 +138,10 @@ class FilmParams:
             (16-29 % low at 0.1 m/s, the wrong sign at 1 m/s on a rigid
             rough band against a finite-volume reference, where the
             default is within 1.2 % and 17 %; docs/verification.md).
+            Without it, the frozen lip sector still takes it as the last
+            fallback of a film solve that the default scheme cannot finish,
+            and releases it (the film reported is then the default scheme's,
+            or the weight ``discrete_upwinding_weight`` says).
         release_upwinding: With ``discrete_upwinding``: once the monotone film
             has converged, walk the discrete upwinding's weight down to 0, each
             weight solved from the last film (on the lip sector a failed weight

@@ -443,9 +443,10 @@ class SectorLip:
         film_only: The frozen-lip film solver (``feedback = false``), else None.
         film_polish: The film solver that finishes a coupled point
             (``feedback = true``, :func:`polish_film`), else None.
-        upwinding_weight: With ``film.discrete_upwinding``, the weight of its
-            term in the last film solved (1; with ``film.release_upwinding`` 0,
-            or the smallest weight that converged).
+        upwinding_weight: The weight of ``film.discrete_upwinding``'s term in the
+            last film solved: with the option 1 (with ``film.release_upwinding``
+            0, or the smallest weight that converged); without it 0, or the weight
+            a rescued film kept (:func:`_rescue_film`).
         steps: Newton steps and time of each stage.
     """
 
@@ -572,7 +573,15 @@ def build(params: LipStaticParameters) -> SectorLip:
     film.set_edge_pressures(0.0, 0.0)
     if film.has_couette:  # a sliding shaft: pressurised at a slow speed, then walked up
         film.set_speed(start_speed(params.film.speed, lifts(params)))
-    out = SectorLip(prob, tm, rough, scale, installed, mp.angle)
+    out = SectorLip(
+        prob,
+        tm,
+        rough,
+        scale,
+        installed,
+        mp.angle,
+        upwinding_weight=1.0 if fp.discrete_upwinding else 0.0,
+    )
     film_solver = film.make_solver(
         dataclasses.replace(
             prob.solver.options,
@@ -716,9 +725,8 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
     ``feedback = false``; the coupled sliding sector's predictor passes
     ``lub.film_polish`` and ``release = false``); returns the Newton steps.
     With ``film.release_upwinding`` (and ``release``) the discrete upwinding is
-    then walked down (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`,
-    a failed weight step tried again by pseudo-time steps), its final weight kept
-    in ``lub.upwinding_weight``.
+    then walked down (:func:`_release`), its final weight kept in
+    ``lub.upwinding_weight``.
 
     Without JFO one Newton solve.  With JFO the fixed-pattern semismooth Newton
     (``semismooth``: identity rows at the bounds the natural residual
@@ -734,27 +742,91 @@ def solve_film(lub: SectorLip, where: str, solver: Any = None, release: bool = T
     balance 3.7e-9.  Fischer-Burmeister (``vinewtonssls``) crept there and its
     state (``theta`` a round-off below 1 at pressurised nodes) made the
     semismooth Newton's first active set cavitate them all (DIVERGED_DTOL).
+
+    With the default scheme (no ``film.discrete_upwinding``) and ``release``, a
+    film that none of these reaches is rescued (:func:`_rescue_film`): the
+    monotone film from the last state, then its discrete upwinding released, so
+    that the film reported is still the default scheme's, or, where the release
+    stops, the blend ``lub.upwinding_weight`` says (logged as a warning).
     """
     solver = solver if solver is not None else lub.film_only
     if not lub.problem.film.has_theta:
         return solver.solve(where=where).newton_iterations
     film = lub.problem.film
-    its = _solve_jfo_film(lub, where, solver)
-    if release and film.params.release_upwinding:
-        n, lub.upwinding_weight = release_discrete_upwinding(
-            solver, [film.P, film.theta_fn], where,
-            fallback=lambda at: pseudo_transient_solve(film, solver, at),
-            max_newton=RELEASE_MAX_NEWTON,
-        )  # fmt: skip
-        its += n
+    if film.params.discrete_upwinding:
+        its = _solve_jfo_film(lub, where, solver)
+        if release and film.params.release_upwinding:
+            n, lub.upwinding_weight = _release(lub, solver, where)
+            its += n
+        return its
+    attach_discrete_upwinding(solver, weight=0.0)  # a former rescue's term, if any
+    last = _sliding_film_state(film)
+    try:
+        its = _solve_jfo_film(lub, where, solver)
+    except SolverError as e:
+        if not release:
+            raise
+        return e.history.newton_iterations + _rescue_film(lub, where, solver, last, e)
+    if release:
+        lub.upwinding_weight = 0.0
     return its
+
+
+def _release(lub: SectorLip, solver: Any, where: str) -> tuple[int, float]:
+    """The frozen film's discrete upwinding walked from its weight 1 to 0
+    (:func:`~dolfinx_seal.film.upwinding.release_discrete_upwinding`, a failed
+    weight step tried again by pseudo-time steps, every solve capped at
+    :data:`RELEASE_MAX_NEWTON` Newton steps); ``(Newton steps, weight kept)``."""
+    film = lub.problem.film
+    return release_discrete_upwinding(
+        solver, [film.P, film.theta_fn], where,
+        fallback=lambda at: pseudo_transient_solve(film, solver, at),
+        max_newton=RELEASE_MAX_NEWTON,
+    )  # fmt: skip
+
+
+def _rescue_film(lub: SectorLip, where: str, solver: Any, last: Any, failure: SolverError) -> int:
+    """The default scheme's film where its own solves failed: from the last film
+    (``last``), the film with ``film.discrete_upwinding``'s term (the monotone
+    scheme, whose Newton converges in a few steps where the default scheme's
+    cycles), then the term released (:func:`_release`).  Returns the Newton steps;
+    ``lub.upwinding_weight`` is the weight kept (0: the default scheme's film),
+    and a weight above 0 stays on the solver until the next film solve.
+
+    Measured on the frozen default band (2.6 um, default floor, two ranks): the
+    default scheme's chain fails at every walk step above 1.3 mm/s, so ``lip-dynamic``
+    at its default speed stopped there; the explicit release
+    (``film.discrete_upwinding`` and ``film.release_upwinding``) reached weight 0
+    from 1 mm/s to 1 m/s (docs/scenes/lip-sector.md).
+
+    Raises:
+        SolverError: the monotone film did not converge either (both failures named).
+    """
+    film = lub.problem.film
+    _set_sliding_film_state(film, last)
+    get_logger().warning("%s: the film did not converge (%s); solved with the discrete "
+                         "upwinding, then released", where, failure.what)  # fmt: skip
+    attach_discrete_upwinding(solver)
+    try:
+        its = solver.solve(where=f"{where}: with discrete upwinding").newton_iterations
+    except SolverError as e:
+        attach_discrete_upwinding(solver, weight=0.0)
+        _set_sliding_film_state(film, last)
+        raise SolverError(f"{failure.what}; with discrete upwinding: {e.what}", where,
+                          e.history) from e  # fmt: skip
+    n, lub.upwinding_weight = _release(lub, solver, f"{where} (rescue)")
+    if lub.upwinding_weight > 0.0:
+        get_logger().warning("%s: the film reported keeps weight %.4g of the discrete "
+                             "upwinding (discrete_upwinding_weight)", where,
+                             lub.upwinding_weight)  # fmt: skip
+    return its + n
 
 
 def _solve_jfo_film(lub: SectorLip, where: str, solver: Any) -> int:
     film = lub.problem.film
     if film.params.discrete_upwinding:  # for this speed and zone
         attach_discrete_upwinding(solver)
-    P0, T0 = film.P.x.array.copy(), film.theta_fn.x.array.copy()
+    P0, T0 = _sliding_film_state(film)
     its = 0
     try:
         return solver.solve(where=f"{where}: semismooth").newton_iterations
@@ -988,7 +1060,7 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         out.update(_cavitation_place(lub, z_c))
     if film.has_couette:
         out.update(_sliding_results(lub, params, band_area))
-    if film.params.discrete_upwinding:
+    if film.params.discrete_upwinding or (film.has_theta and film.has_couette):
         out["discrete_upwinding_weight"] = lub.upwinding_weight
     out.update(factor_memory(lub))
     if prob.control == "force":  # lift = true: how far the film lifts the lip [m]
@@ -1243,20 +1315,27 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     return its + polish_film(lub, where)
 
 
+def _sliding_film_state(film: Any) -> tuple[np.ndarray, np.ndarray]:
+    """A copy of the JFO film's unknowns (pressure, film fraction)."""
+    return film.P.x.array.copy(), film.theta_fn.x.array.copy()
+
+
+def _set_sliding_film_state(film: Any, state: tuple[np.ndarray, np.ndarray]) -> None:
+    film.P.x.array[:], film.theta_fn.x.array[:] = state
+
+
 def _sliding_state(lub: SectorLip) -> Any:
     """What a speed step changes: the film (frozen lip) or every unknown (coupled)."""
     if lub.film_only is None:
         return lub.problem.state()
-    film = lub.problem.film
-    return film.P.x.array.copy(), film.theta_fn.x.array.copy()
+    return _sliding_film_state(lub.problem.film)
 
 
 def _set_sliding_state(lub: SectorLip, state: Any) -> None:
     if lub.film_only is None:
         lub.problem.restore(state)
         return
-    film = lub.problem.film
-    film.P.x.array[:], film.theta_fn.x.array[:] = state
+    _set_sliding_film_state(lub.problem.film, state)
 
 
 def speed_walker(lub: SectorLip, on_accept: Any = None) -> AdaptiveWalk:

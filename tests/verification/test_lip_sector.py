@@ -467,6 +467,55 @@ def test_discrete_upwinding_leaves_a_full_film_alone(sliding, release):
         assert r["friction_torque"] == pytest.approx(ref["friction_torque"], rel=1e-9)
 
 
+def test_a_film_the_default_scheme_misses_is_rescued_to_its_film(sliding, monkeypatch):
+    """Where the default scheme's own film solves all fail (semismooth, pseudo-time,
+    from a full film), ``solve_film`` solves the monotone film (the discrete
+    upwinding) from the last film and releases its term: the film reported is
+    still the default scheme's.  Here every one of those solves is made to fail,
+    so each film of the CHECK sector's walk goes through the rescue; without
+    cavitation the film is unique, so the rescued films must be the fixture's,
+    to the tolerances of ``test_speed_sweep_gives_the_films_of_the_fixture``,
+    with the term's weight 0 and the term off the solver.  When the monotone
+    film fails too, the error names both failures and the last film is kept."""
+    from dolfinx_seal.errors import SolverError
+    from dolfinx_seal.scenes import lip_sector
+
+    def default_scheme_fails(lub, where, solver):
+        raise SolverError("the default scheme's film: DIVERGED_MAX_IT (forced)", where)
+
+    monkeypatch.setattr(lip_sector, "_solve_jfo_film", default_scheme_fails)
+    p = make_parameters("lip-dynamic", values={**CHECK, "film": {"speed": SPEEDS[0]}})
+    lub = lip_sector.build(p)
+    try:
+        rows = _speed_rows(lub, p, SPEEDS)
+        assert lub.film_only.linear_term is None
+        # the monotone film fails as well: both named, the last film kept
+        solve = lub.film_only.solve
+
+        def monotone_fails(where=""):
+            if lub.film_only.linear_term is not None:
+                raise SolverError("DIVERGED_LINE_SEARCH (forced)", where)
+            return solve(where=where)
+
+        monkeypatch.setattr(lub.film_only, "solve", monotone_fails)
+        film = lub.problem.film
+        before = film.P.x.array.copy(), film.theta_fn.x.array.copy()
+        film.set_speed(0.2)
+        with pytest.raises(SolverError, match=r"forced\); with discrete upwinding: DIVERGED_LINE"):
+            lip_sector.solve_film(lub, where="rescue check")
+        assert np.array_equal(film.P.x.array, before[0])
+        assert np.array_equal(film.theta_fn.x.array, before[1])
+        assert lub.film_only.linear_term is None
+    finally:
+        lub.destroy()
+    balance = 1e-9 if MPI.COMM_WORLD.size == 1 else 1e-4
+    for r, ref in zip(rows, sliding, strict=True):
+        assert r["discrete_upwinding_weight"] == 0.0
+        assert r["nodal_mass_balance_error"] < balance
+        assert r["leakage_rate"] == pytest.approx(ref["leakage_rate"], rel=1e-7, abs=0)
+        assert r["friction_torque"] == pytest.approx(ref["friction_torque"], rel=1e-9)
+
+
 @pytest.mark.slow
 def test_sliding_sector_couette_torque_equals_the_rotary_lip(sliding):
     """The viscous (Couette) torque against the rotary lip's at 0.1 m/s (frozen, 10 um,
