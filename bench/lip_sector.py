@@ -22,7 +22,9 @@
   triangular solves, Krylov) on rank 0.
 * ``levels``: the static point on several band resolutions (``--epw``, elements
   per lambda_th): leakage, torque and radial load against run time, with
-  observed orders against the finest level.
+  observed orders against the finest level; with ``--scene lip-dynamic`` the
+  sliding point at ``film.speed`` (fluid load fraction, peak film pressure,
+  cavitation fraction and the discrete upwinding's weight as well).
 
 Writes ``bench/results/lip_sector_<mode>_np<ranks>.csv`` (one row per point,
 appended as each finishes) and prints a Markdown table on rank 0.
@@ -57,6 +59,9 @@ from dolfinx_seal.scenes import lip_sector, make_parameters
 
 KEYS = ("leakage_rate", "friction_torque", "radial_load", "contact_area_fraction", "h_min",
         "max_contact_pressure", "mass_balance_error", "nodal_mass_balance_error")  # fmt: skip
+#: and of a sliding point (``--scene lip-dynamic``)
+SLIDING_KEYS = ("fluid_load_fraction", "max_fluid_pressure", "cavitation_fraction",
+                "discrete_upwinding_weight")  # fmt: skip
 
 
 def mumps_memory(solver: Any, prefix: str = "mumps") -> dict[str, float]:
@@ -97,6 +102,7 @@ def static_point(scene: str, values: dict[str, Any]) -> dict[str, Any]:
             "wall_time_s": time.perf_counter() - t0, **mem,
         }  # fmt: skip
         row.update({k: res[k] for k in KEYS})
+        row.update({k: res[k] for k in SLIDING_KEYS if k in res})
         after = _events()
         for key in EVENTS:
             row[f"{key}_count"] = after[key][0] - before[key][0]
