@@ -43,7 +43,9 @@ Point statuses:
 ``suspect``
     converged, but to a state outside the model: a film thinner than a continuum
     film (``h_min`` below :data:`~dolfinx_seal.film.surface.CONTINUUM_FILM`, 2 nm,
-    or negative), with the reason;
+    or negative), or a film of neither film scheme (``discrete_upwinding_weight``
+    strictly between 0 and 1: the release of the discrete upwinding stopped
+    short), with the reason;
 ``refused``
     the input checks refused the case before anything was assembled (a case
     marked ``expect = "refused"``: physics says there is no solution);
@@ -297,6 +299,13 @@ def _point_row(case: Case, value: Any, status: str, res: Mapping[str, Any] | Non
             error = (
                 f"converged to a film thinner than a continuum film ({CONTINUUM_FILM:.0e} m): "
                 f"h_min = {res['h_min']:.3g} m"
+            )
+        elif 0.0 < float(res.get("discrete_upwinding_weight", 0.0)) < 1.0:
+            row["status"] = "suspect"
+            error = (
+                "converged to a film of neither scheme (the release of the discrete "
+                f"upwinding stopped short): discrete_upwinding_weight = "
+                f"{res['discrete_upwinding_weight']:.3g}"
             )
     row["error"] = " ".join(error.split())
     return row

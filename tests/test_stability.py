@@ -301,3 +301,10 @@ def test_a_converged_point_that_is_not_finite_or_physical_is_flagged():
     for r, h in ((neg, "-1.2e-09"), (thin, "4e-10")):  # below a continuum film (2 nm)
         assert r["status"] == "suspect" and "thinner than a continuum film" in r["error"]
         assert f"h_min = {h} m" in r["error"], r["error"]
+    # a film released only in part is of neither scheme; 0 (released) and 1 (the
+    # monotone scheme, asked for) are each a scheme's film
+    for w, want in ((0.078125, "suspect"), (0.0, "converged"), (1.0, "converged")):
+        r = stability._point_row(case, 1.0, "converged",
+                                 {"mu": 0.1, "h_min": 1e-7, "discrete_upwinding_weight": w})  # fmt: skip
+        assert r["status"] == want, (w, r)
+        assert ("discrete_upwinding_weight = 0.0781" in r["error"]) == (want == "suspect")
