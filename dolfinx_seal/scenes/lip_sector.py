@@ -793,11 +793,12 @@ def _rescue_film(lub: SectorLip, where: str, solver: Any, last: Any, failure: So
     ``lub.upwinding_weight`` is the weight kept (0: the default scheme's film),
     and a weight above 0 stays on the solver until the next film solve.
 
-    Measured on the frozen default band (2.6 um, default floor, two ranks): the
-    default scheme's chain fails at every walk step above 1.3 mm/s, so ``lip-dynamic``
-    at its default speed stopped there; the explicit release
-    (``film.discrete_upwinding`` and ``film.release_upwinding``) reached weight 0
-    from 1 mm/s to 1 m/s (docs/scenes/lip-sector.md).
+    Measured on the frozen default band (2.6 um, default floor, two ranks):
+    ``lip-dynamic`` at its default 0.1 m/s walked from 1 mm/s in 6 steps, three of
+    them failed (1 cm/s, 3.2 and 1.8 mm/s, about 80 s each), 689 s in all; with
+    the rescue at 1 cm/s, 2 steps and 299 s, the same film (torque to 1e-10); the
+    six speeds of ``bench/lip_sector.py dynamic`` all converged, weight 0
+    (docs/scenes/lip-sector.md).
 
     Raises:
         SolverError: the monotone film did not converge either (both failures named).
