@@ -64,6 +64,7 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
+from dolfinx_seal.coupled.continuation import path_tangent, tangent_predictor
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
@@ -313,10 +314,10 @@ class LipDynamicParameters(LipStaticParameters):
             (mass-conserving, S0 eqs 10-11, the only choice); ``viscosity``,
             ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
         feedback: True: the film pressure deforms the lip (the coupled sliding
-            sector: each speed a frozen-film predictor on the current lip, then the
-            coupled semismooth Newton with projected steps, full and then
-            backtracking, pseudo-time steps of the coupled film if both fail,
-            :func:`solve_sliding`).  False: the lip is
+            sector: each speed the coupled semismooth Newton with projected steps,
+            full and then backtracking, from the path's tangent (``tangent``) or
+            from a frozen-film predictor on the current lip, pseudo-time steps of
+            the coupled film if that fails too, :func:`solve_sliding`).  False: the lip is
             frozen in its dry two-scale state and only the film is solved on it
             (valid while the film carries a small part of the load: see
             ``fluid_load_fraction`` and docs/scenes/lip-sector.md).
@@ -326,6 +327,13 @@ class LipDynamicParameters(LipStaticParameters):
             :data:`LIFT_START_SPEED` with the shaft at its radius, then released);
             false, the cut holds the installed displacement and the lip lifts only
             by compressing its tip, which raises the radial load.
+        tangent: With ``feedback``: true, each speed step of the walk starts the
+            coupled Newton from the first-order prediction along the solution
+            path's tangent ``dx/d ln U`` at the last converged speed, the lip and
+            the film moving together (the frozen-film predictor only if that
+            fails); false, from the frozen-film predictor alone.  Measured on the
+            lifting default band (floor 0.1 with ``film.discrete_upwinding``, two
+            ranks): see docs/scenes/lip-sector.md.
     """
 
     film: FilmParams = field(
@@ -336,12 +344,14 @@ class LipDynamicParameters(LipStaticParameters):
     )  # fmt: skip
     feedback: bool = False
     lift: bool = False
+    tangent: bool = True
 
     scene_name = "lip-dynamic"
 
     def _check_speed(self) -> None:
         """A turning shaft (zero speed is the scene ``lip-static``), JFO."""
         check_bool("lift", self.lift)
+        check_bool("tangent", self.tangent)
         check_range("film.speed", self.film.speed, 0.0, 100.0, lo_open=True,
                     unit="m/s (the turning shaft; a shaft at rest is the scene lip-static)")  # fmt: skip
         check_choice("film.cavitation", self.film.cavitation, ("jfo",))
@@ -447,6 +457,10 @@ class SectorLip:
             last film solved: with the option 1 (with ``film.release_upwinding``
             0, or the smallest weight that converged); without it 0, or the weight
             a rescued film kept (:func:`_rescue_film`).
+        tangent: The coupled sliding sector's speed steps start from the path's
+            tangent (``lip-dynamic``'s ``tangent``, :func:`solve_sliding`).
+        sliding_point: ``(speed [m/s], state)`` of the last converged coupled
+            sliding point (the start of the next step's tangent), else None.
         steps: Newton steps and time of each stage.
     """
 
@@ -459,6 +473,8 @@ class SectorLip:
     film_only: Any = None
     film_polish: Any = None
     upwinding_weight: float = 1.0
+    tangent: bool = False
+    sliding_point: tuple[float, list[Any]] | None = None
     steps: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -581,6 +597,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         installed,
         mp.angle,
         upwinding_weight=1.0 if fp.discrete_upwinding else 0.0,
+        tangent=bool(getattr(params, "tangent", False)),
     )
     film_solver = film.make_solver(
         dataclasses.replace(
@@ -692,8 +709,10 @@ def _dry_stages(lub: SectorLip, params: LipStaticParameters) -> None:
 
 
 def set_sealed_pressures(lub: SectorLip, oil: float, air: float) -> None:
-    """The sealed oil and air pressures [Pa] on the film's edges."""
+    """The sealed oil and air pressures [Pa] on the film's edges (a coupled sliding
+    point solved at other pressures is no start for a tangent in the speed)."""
     lub.problem.film.set_edge_pressures(oil, air)
+    lub.sliding_point = None
 
 
 #: the frozen film converges on its Newton step (``stol``, with the round-off check of
@@ -1266,46 +1285,33 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     last converged state; returns the Newton steps.
 
     Frozen lip (``feedback = false``): :func:`solve_film`.  Coupled (``feedback =
-    true``): the film alone on the current lip first (:func:`solve_film` with
-    ``lub.film_polish``: the film's own fallback chain finds the cavitated zones
-    at the new speed), then the coupled semismooth Newton from that state (the
-    lip deforms under the film; each step projected onto the bounds, with full
-    steps, then from the same state with a backtracking line search,
-    :data:`COUPLED_SLIDING_OPTIONS`); if both fail, pseudo-time steps of the
-    coupled film from the predicted state (every unknown restored on a failed
-    step); with ``film.discrete_upwinding`` the term rebuilt on the converged lip
-    until a solve starts converged (:func:`_settle_upwinding`); then
-    :func:`polish_film`.  Measured on the coarse
-    two-scale sector (5.2 um band, 0.05 MPa, two ranks): from 1e-4 m/s straight to
-    1e-3 m/s without the film predictor the coupled Newton ran 32 steps into a NaN;
-    with it, 184 film steps (its pseudo-time fallback) and 3 coupled steps; 1e-2
-    m/s: 62 and 4.
+    true``): with ``tangent`` and the last converged coupled point known (the
+    walk's last accepted state, at another speed), the coupled semismooth Newton
+    from the path's tangent there (:func:`_coupled_from_tangent`); if that fails,
+    or without it, from the film predictor (:func:`_coupled_from_film`).  With
+    ``film.discrete_upwinding`` the term is then rebuilt on the converged lip
+    until a solve starts converged (:func:`_settle_upwinding`) and, with
+    ``film.release_upwinding``, released; then :func:`polish_film`.
     """
     if lub.film_only is not None:
         return solve_film(lub, where=f"{where} (frozen lip)")
     prob = lub.problem
-    its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish,
-                     release=False)  # fmt: skip
-    predicted = prob.state()
+    speed = float(prob.film.speed.value)
     solver = prob.solver
     upwinding = prob.film.params.discrete_upwinding
-    if upwinding:
-        attach_discrete_upwinding(solver, *_film_blocks(prob))
+    last = lub.sliding_point  # kept when this step fails: the walk restores that state
+    its = 0
     with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_OPTIONS):
-        for line_search in COUPLED_LINE_SEARCHES:
-            try:
-                with solver.switched(line_search=line_search):
-                    its += solver.solve(where=f"{where}: coupled ({line_search})").newton_iterations
-                break
-            except SolverError as e:
-                its += e.history.newton_iterations if e.history else 0
-                get_logger().info("%s: coupled Newton (%s line search) from the film on the "
-                                  "current lip failed (%s)", where, line_search, e.what)  # fmt: skip
-                prob.restore(predicted)
-        else:
-            get_logger().info("%s: pseudo-time steps of the coupled film", where)
-            its += pseudo_transient_solve(prob.film, solver, f"{where}: coupled",
-                                          unknowns=[b[1] for b in prob.blocks])  # fmt: skip
+        converged = False
+        if lub.tangent and last is not None and last[0] != speed and _is_state(prob, last[1]):
+            n, converged = _coupled_from_tangent(lub, where, last[0])
+            its += n
+            if not converged:
+                get_logger().info("%s: the coupled Newton from the tangent at %g m/s failed; "
+                                  "from the film on the current lip", where, last[0])  # fmt: skip
+                prob.restore(last[1])
+        if not converged:
+            its += _coupled_from_film(lub, where)
         if upwinding:
             its += _settle_upwinding(lub, where)
             if prob.film.params.release_upwinding:
@@ -1313,7 +1319,93 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
                     solver, [b[1] for b in prob.blocks], f"{where}: coupled"
                 )
                 its += n
-    return its + polish_film(lub, where)
+    its += polish_film(lub, where)
+    lub.sliding_point = (speed, prob.state())
+    return its
+
+
+def _is_state(prob: Any, state: list[Any]) -> bool:
+    """Whether the problem's unknowns are ``state`` (a :meth:`state` copy), on every rank."""
+    same = all(np.array_equal(a, b) for a, b in zip(prob.state(), state, strict=True))
+    return bool(prob.mesh.comm.allreduce(same, op=MPI.LAND))
+
+
+def _coupled_newton(lub: SectorLip, where: str, start: list[Any]) -> tuple[int, bool]:
+    """The coupled semismooth Newton from the problem's state ``start``, with each of
+    :data:`COUPLED_LINE_SEARCHES` in turn (``start`` restored after a failure);
+    ``(Newton steps, converged)``."""
+    prob, solver = lub.problem, lub.problem.solver
+    its = 0
+    for line_search in COUPLED_LINE_SEARCHES:
+        try:
+            with solver.switched(line_search=line_search):
+                hist = solver.solve(where=f"{where}: coupled ({line_search})")
+            return its + hist.newton_iterations, True
+        except SolverError as e:
+            its += e.history.newton_iterations if e.history else 0
+            get_logger().info("%s: coupled Newton (%s line search) failed (%s)", where,
+                              line_search, e.what)  # fmt: skip
+            prob.restore(start)
+    return its, False
+
+
+def _coupled_from_tangent(lub: SectorLip, where: str, last_speed: float) -> tuple[int, bool]:
+    """The coupled point at the current speed by the coupled Newton
+    (:func:`_coupled_newton`) from the first-order prediction along the path's
+    tangent ``dx/d ln U`` at the converged point at ``last_speed`` [m/s] (the current
+    state: :func:`~dolfinx_seal.coupled.continuation.path_tangent`, with the
+    semismooth active set and the discrete upwinding's term of that lip), the gap
+    steps shortened as the Newton's; ``(Newton steps, converged)``.
+
+    The lip and the film move together, as the path does.  The film predictor
+    (:func:`_coupled_from_film`) solves the film alone at the new speed on the old
+    lip, where it builds pressures the lip then yields to; on the lifting default
+    band (2.6 um, floor 0.1 with ``film.discrete_upwinding``, two ranks) that walk
+    crept to 8.6 mm/s in 29 minutes and failed every step to 1 cm/s
+    (docs/scenes/lip-sector.md).
+    """
+    prob = lub.problem
+    if prob.film.params.discrete_upwinding:  # the term of the converged lip
+        attach_discrete_upwinding(prob.solver, *_film_blocks(prob))
+    speed = float(prob.film.speed.value)
+    tangent = path_tangent(prob, last_speed)
+    try:
+        tangent_predictor(prob, tangent, speed)
+    finally:
+        tangent[1].destroy()
+    return _coupled_newton(lub, f"{where}: from the tangent", prob.state())
+
+
+def _coupled_from_film(lub: SectorLip, where: str) -> int:
+    """The coupled point at the current speed from the film predictor; returns the
+    Newton steps.
+
+    1. The film alone on the current lip at the new speed (:func:`solve_film` with
+       ``lub.film_polish``: the film's own fallback chain finds the cavitated zones);
+    2. the coupled semismooth Newton from that state (:func:`_coupled_newton`: each
+       step projected onto the bounds, with full steps, then with a backtracking
+       line search, :data:`COUPLED_SLIDING_OPTIONS`);
+    3. if both fail, pseudo-time steps of the coupled film from the predicted state
+       (every unknown restored on a failed step).
+
+    Measured on the coarse two-scale sector (5.2 um band, 0.05 MPa, two ranks): from
+    1e-4 m/s straight to 1e-3 m/s without the film predictor the coupled Newton ran
+    32 steps into a NaN; with it, 184 film steps (its pseudo-time fallback) and 3
+    coupled steps; 1e-2 m/s: 62 and 4.
+    """
+    prob = lub.problem
+    its = solve_film(lub, where=f"{where}: film on the current lip", solver=lub.film_polish,
+                     release=False)  # fmt: skip
+    if prob.film.params.discrete_upwinding:
+        attach_discrete_upwinding(prob.solver, *_film_blocks(prob))
+    n, converged = _coupled_newton(lub, f"{where}: from the film on the current lip",
+                                   prob.state())  # fmt: skip
+    its += n
+    if converged:
+        return its
+    get_logger().info("%s: pseudo-time steps of the coupled film", where)
+    return its + pseudo_transient_solve(prob.film, prob.solver, f"{where}: coupled",
+                                        unknowns=[b[1] for b in prob.blocks])  # fmt: skip
 
 
 def _sliding_film_state(film: Any) -> tuple[np.ndarray, np.ndarray]:
