@@ -315,9 +315,9 @@ class LipDynamicParameters(LipStaticParameters):
             ``flow_factor``, ``asperity_shear`` as in ``lip-static``.
         feedback: True: the film pressure deforms the lip (the coupled sliding
             sector: each speed the coupled semismooth Newton with projected steps,
-            full and then backtracking, from the path's tangent (``tangent``) or
-            from a frozen-film predictor on the current lip, pseudo-time steps of
-            the coupled film if that fails too, :func:`solve_sliding`).  False: the lip is
+            full and then backtracking, from a frozen-film predictor on the current
+            lip (or first from the path's tangent, ``tangent``), pseudo-time steps
+            of the coupled film if that fails too, :func:`solve_sliding`).  False: the lip is
             frozen in its dry two-scale state and only the film is solved on it
             (valid while the film carries a small part of the load: see
             ``fluid_load_fraction`` and docs/scenes/lip-sector.md).
@@ -331,9 +331,10 @@ class LipDynamicParameters(LipStaticParameters):
             coupled Newton from the first-order prediction along the solution
             path's tangent ``dx/d ln U`` at the last converged speed, the lip and
             the film moving together (the frozen-film predictor only if that
-            fails); false, from the frozen-film predictor alone.  Measured on the
-            lifting default band (floor 0.1 with ``film.discrete_upwinding``, two
-            ranks): see docs/scenes/lip-sector.md.
+            fails); false, from the frozen-film predictor alone.  Opt-in: on the
+            lifting default band it walks further and in fewer Newton steps, but
+            on the coarse band at 0.1 m/s it converged to a point whose film
+            conserves mass 14 times worse (docs/scenes/lip-sector.md).
     """
 
     film: FilmParams = field(
@@ -344,7 +345,7 @@ class LipDynamicParameters(LipStaticParameters):
     )  # fmt: skip
     feedback: bool = False
     lift: bool = False
-    tangent: bool = True
+    tangent: bool = False
 
     scene_name = "lip-dynamic"
 

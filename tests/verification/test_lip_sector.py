@@ -611,7 +611,7 @@ def test_discrete_upwinding_leaves_the_coupled_full_film_alone(coupled_sliding, 
 def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predictor(
     coupled_sliding, monkeypatch
 ):
-    """``tangent = true`` (the default): every speed step of the coupled walk starts
+    """``tangent = true``: every speed step of the coupled walk starts
     from the path's tangent at the last converged point, and the film predictor is
     used only for the first point (from the dry state).  On the CHECK sector's full
     film the point is unique, so the walk ends on the fixture's (walked from the
@@ -637,9 +637,8 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
 
     monkeypatch.setattr(lip_sector, "_coupled_from_tangent", tangent)
     monkeypatch.setattr(lip_sector, "_coupled_from_film", film)
-    p = make_parameters("lip-dynamic", values={**CHECK, "feedback": True,
+    p = make_parameters("lip-dynamic", values={**CHECK, "feedback": True, "tangent": True,
                                                "film": {"speed": SPEEDS[0]}})  # fmt: skip
-    assert p.tangent
     lub = lip_sector.build(p)
     try:
         rows = [lip_sector.solve_point(lub, p)]
