@@ -1362,8 +1362,8 @@ def _coupled_from_tangent(lub: SectorLip, where: str, last_speed: float) -> tupl
     (:func:`_coupled_from_film`) solves the film alone at the new speed on the old
     lip, where it builds pressures the lip then yields to; on the lifting default
     band (2.6 um, floor 0.1 with ``film.discrete_upwinding``, two ranks) that walk
-    crept to 8.6 mm/s and was still failing its steps towards 1 cm/s after 29
-    minutes; from the tangent it reached 8.6 mm/s in 12 minutes
+    from 3 mm/s crept to 8.6 mm/s and was still failing its steps towards 1 cm/s
+    after 29 minutes; from the tangent it reached 8.6 mm/s 8 minutes after 3 mm/s
     (docs/scenes/lip-sector.md).
     """
     prob = lub.problem
