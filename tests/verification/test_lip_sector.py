@@ -616,8 +616,9 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
     used only for the first point (from the dry state).  On the CHECK sector's full
     film the point is unique, so the walk ends on the fixture's (walked from the
     film predictor): the two, each run on to its round-off floor (:func:`_tight`),
-    agree to 1e-9 (measured: 2.7e-11 in leakage, 4e-13 in torque and radial
-    load).  The first point, solved the same way by both, is the fixture's to the
+    agree to 1e-9 in torque and radial load (measured 4e-13) and to 1e-7 in
+    leakage, the film's small net flux (measured 2.7e-11 at one rank, 4.3e-9 at
+    two in a CI run; untightened, the two walks end 4.7e-6 apart).  The first point, solved the same way by both, is the fixture's to the
     tolerances of test_discrete_upwinding_leaves_the_coupled_full_film_alone (1e-7
     in leakage, 1e-9 in torque and load: at two ranks two builds round
     differently, 6e-11 in leakage)."""
@@ -656,7 +657,7 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
     for key in ("leakage_rate", "friction_torque", "radial_load"):
         rel = 1e-7 if key == "leakage_rate" else 1e-9
         assert first[key] == pytest.approx(ref[key], rel=rel, abs=0)
-        assert tight[key] == pytest.approx(coupled_sliding[1][key], rel=1e-9, abs=0)
+        assert tight[key] == pytest.approx(coupled_sliding[1][key], rel=rel, abs=0)
 
 
 def test_coupled_sliding_sector_is_the_coupled_sector_at_rest(coupled_sliding, coupled_static):
