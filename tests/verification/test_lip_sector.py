@@ -566,7 +566,8 @@ def _tight(lub, p):
     step stalls at round-off (no residual tolerance), then the film polished; the
     results.  Two walks that each stopped at the solver's residual tolerance end
     some 1e-7 apart in torque (the CHECK sector at 0.1 m/s: 3.4e-7 in torque,
-    4.7e-6 in leakage); from there, the same point to 1e-11."""
+    4.7e-6 in leakage); from there, the same point to 4e-13 in torque and, in
+    leakage, 2.7e-11 at one rank and 4.3e-9 at two."""
     from dolfinx_seal.scenes import lip_sector
 
     tight = {**lip_sector.COUPLED_SLIDING_OPTIONS, "atol": 1e-300, "rtol": 1e-300,
@@ -618,10 +619,11 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
     film predictor): the two, each run on to its round-off floor (:func:`_tight`),
     agree to 1e-9 in torque and radial load (measured 4e-13) and to 1e-7 in
     leakage, the film's small net flux (measured 2.7e-11 at one rank, 4.3e-9 at
-    two in a CI run; untightened, the two walks end 4.7e-6 apart).  The first point, solved the same way by both, is the fixture's to the
-    tolerances of test_discrete_upwinding_leaves_the_coupled_full_film_alone (1e-7
-    in leakage, 1e-9 in torque and load: at two ranks two builds round
-    differently, 6e-11 in leakage)."""
+    two in a CI run; untightened, the two walks end 4.7e-6 apart).  The first
+    point, solved the same way by both, is the fixture's to the tolerances of
+    test_discrete_upwinding_leaves_the_coupled_full_film_alone (1e-7 in leakage,
+    1e-9 in torque and load: at two ranks two builds round differently, 6e-11 in
+    leakage)."""
     from dolfinx_seal.scenes import lip_sector
 
     calls = {"tangent": [], "film": 0}
