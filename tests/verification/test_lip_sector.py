@@ -416,7 +416,8 @@ def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
 
 @pytest.mark.parametrize(
     ("values", "name"),
-    [({"feedback": 1}, "feedback"), ({"film": {"speed": 0.0}}, "film.speed"),
+    [({"feedback": 1}, "feedback"), ({"feedback": True, "tangent": 1}, "tangent"),
+     ({"film": {"speed": 0.0}}, "film.speed"),
      ({"film": {"cavitation": "reynolds"}}, "film.cavitation"),
      ({"film": {"upwind": "none"}}, "film.upwind"),
      ({"film": {"release_upwinding": True}}, "film.release_upwinding"),
@@ -644,7 +645,7 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
                                                "film": {"speed": SPEEDS[0]}})  # fmt: skip
     lub = lip_sector.build(p)
     try:
-        rows = [lip_sector.solve_point(lub, p)]
+        first = lip_sector.solve_point(lub, p)
         assert calls == {"tangent": [], "film": 1}
         pv = set_parameter(p, "film.speed", SPEEDS[1])
         lip_sector.solve_speed(lub, pv)
@@ -655,7 +656,7 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
         assert lub.sliding_point is None  # no tangent in the speed across a pressure change
     finally:
         lub.destroy()
-    first, ref = rows[0], coupled_sliding[0][0]
+    ref = coupled_sliding[0][0]
     for key in ("leakage_rate", "friction_torque", "radial_load"):
         rel = 1e-7 if key == "leakage_rate" else 1e-9
         assert first[key] == pytest.approx(ref[key], rel=rel, abs=0)
