@@ -1083,7 +1083,7 @@ def results(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
         out.update(_cavitation_place(lub, z_c))
     if film.has_couette:
         out.update(_sliding_results(lub, params, band_area))
-    if film.params.discrete_upwinding or (film.has_theta and film.has_couette):
+    if film.has_theta and film.has_couette:  # lip-dynamic (lip-static refuses the term)
         out["discrete_upwinding_weight"] = lub.upwinding_weight
     out.update(factor_memory(lub))
     if prob.control == "force":  # lift = true: how far the film lifts the lip [m]
