@@ -614,7 +614,8 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
     coupled_sliding, monkeypatch
 ):
     """``tangent = true``: every speed step of the coupled walk starts
-    from the path's tangent at the last converged point, and the film predictor is
+    from the path's tangent at the last converged point (its Newton capped at
+    ``TANGENT_NEWTON_STEPS``, the film predictor's not), and the film predictor is
     used only for the first point (from the dry state).  On the CHECK sector's full
     film the point is unique, so the walk ends on the fixture's (walked from the
     film predictor): the two, each run on to its round-off floor (:func:`_tight`),
@@ -627,8 +628,13 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
     leakage)."""
     from dolfinx_seal.scenes import lip_sector
 
-    calls = {"tangent": [], "film": 0}
+    calls = {"tangent": [], "film": 0, "caps": set()}
     from_tangent, from_film = lip_sector._coupled_from_tangent, lip_sector._coupled_from_film
+    newton = lip_sector._coupled_newton
+
+    def capped(lub, where, start, max_it=None):
+        calls["caps"].add((where.endswith("from the tangent"), max_it))
+        return newton(lub, where, start, max_it=max_it)
 
     def tangent(lub, where, last_speed):
         its, ok = from_tangent(lub, where, last_speed)
@@ -641,16 +647,18 @@ def test_the_coupled_walk_from_the_tangent_finds_the_points_of_the_film_predicto
 
     monkeypatch.setattr(lip_sector, "_coupled_from_tangent", tangent)
     monkeypatch.setattr(lip_sector, "_coupled_from_film", film)
+    monkeypatch.setattr(lip_sector, "_coupled_newton", capped)
     p = make_parameters("lip-dynamic", values={**CHECK, "feedback": True, "tangent": True,
                                                "film": {"speed": SPEEDS[0]}})  # fmt: skip
     lub = lip_sector.build(p)
     try:
         first = lip_sector.solve_point(lub, p)
-        assert calls == {"tangent": [], "film": 1}
+        assert calls == {"tangent": [], "film": 1, "caps": {(False, None)}}
         pv = set_parameter(p, "film.speed", SPEEDS[1])
         lip_sector.solve_speed(lub, pv)
         assert calls["film"] == 1
         assert calls["tangent"] and all(calls["tangent"])
+        assert calls["caps"] == {(False, None), (True, lip_sector.TANGENT_NEWTON_STEPS)}
         tight = _tight(lub, pv)
         lip_sector.set_sealed_pressures(lub, 0.5 * p.oil_pressure, p.air_pressure)
         assert lub.sliding_point is None  # no tangent in the speed across a pressure change
