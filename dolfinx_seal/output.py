@@ -100,6 +100,10 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "wall_time_s": ("s", "wall time", True),
     "load_balance_error": ("-", "relative error of the load balance", False),
     "mass_balance_error": ("-", "relative error of the film's mass balance", False),
+    "mass_imbalance": (
+        "m^3/s", "net flow into the film, |oil-side inflow - leakage| (lip seals)", False,
+    ),
+    "nodal_mass_imbalance": ("m^3/s", "largest net flow into one film node (lip sector)", False),
     "complementarity_error": ("-", "VI natural residual of the last solve, relative to |F(0)|", False),
     "converged": ("", "whether the solve converged", False),
 }  # fmt: skip

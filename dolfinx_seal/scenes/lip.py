@@ -39,7 +39,8 @@ by millimetres, so it is off by default and stepped finely when on.
 
 ``leakage_rate`` [m^3/s, positive from oil to air] is the flow out of the
 air-side end of the band; the flow into the oil-side end is computed too and
-their difference over the flow is ``mass_balance_error``.  Only what a point
+their difference is ``mass_imbalance`` [m^3/s], and over the flow
+``mass_balance_error``.  Only what a point
 needs is assembled: zero speed and rotary motion have no Couette flux; where
 the film has no transport and both sealed pressures are >= 0 the pressure
 cannot fall below zero (maximum principle), so no cavitation bounds either.
@@ -434,6 +435,7 @@ def results(lub: LubricatedLip, params: LipParameters) -> dict[str, Any]:
         "leakage_ml_per_h": leak * ML_PER_H,
         "oil_side_inflow": -q_oil,
         "mass_balance_error": abs(q_oil + q_air) / flow if flow > 0 else 0.0,
+        "mass_imbalance": abs(q_oil + q_air),
         "radial_load": normal / (2.0 * math.pi * R_s),
         "normal_load": normal,
         "load_fluid": load_fluid,

@@ -104,6 +104,8 @@ def test_film_conserves_mass(frozen):
     for r in rows:
         assert r["mass_balance_error"] < 1e-4
         assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-4, abs=0.0)
+        inflow, leak = r["oil_side_inflow"], r["leakage_rate"]
+        assert r["mass_imbalance"] == pytest.approx(abs(inflow - leak), rel=1e-12, abs=1e-30)
 
 
 def test_rotary_torque_parts_against_the_shear_integrals():

@@ -145,6 +145,28 @@ def test_film_conserves_mass(sector):
         assert r["oil_side_inflow"] == pytest.approx(r["leakage_rate"], rel=1e-4, abs=0)
 
 
+def test_mass_imbalances_in_m3_per_s_bound_each_other(sector):
+    """The imbalances in m^3/s: the global one is the difference of the two end
+    flows, and no larger than every free film node's worst imbalance summed over the
+    nodes of all the periods (the rows of the free nodes, the edge nodes' and the
+    rest sum to zero: the Reynolds form with test function 1 vanishes), so a nodal
+    figure that missed the worst node or the unit would fail it; each is its relative
+    figure times the flow (per period for the nodal one)."""
+    _, lub, _, rows = sector
+    n = lub.per_revolution
+    free = lub.mesh.comm.allreduce(lub.problem.film.film_dofs_local.size, op=MPI.SUM)
+    for r in rows:
+        flow = max(abs(r["leakage_rate"]), abs(r["oil_side_inflow"]))
+        assert r["mass_imbalance"] == pytest.approx(
+            abs(r["oil_side_inflow"] - r["leakage_rate"]), rel=1e-12, abs=1e-30
+        )
+        assert 0.0 < r["mass_imbalance"] <= n * free * r["nodal_mass_imbalance"]
+        assert r["mass_imbalance"] == pytest.approx(r["mass_balance_error"] * flow, rel=1e-12)
+        assert r["nodal_mass_imbalance"] == pytest.approx(
+            r["nodal_mass_balance_error"] * flow / n, rel=1e-12
+        )
+
+
 def _lumped_floored(lub, floor):
     """The floored area and fluid load fractions from nodal values: each film node
     counts with its lumped area ``int phi_i da`` (and force ``int phi_i f_n``) where
