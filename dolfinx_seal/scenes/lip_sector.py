@@ -75,6 +75,7 @@ from dolfinx_seal.params import (
     check_bool,
     check_choice,
     check_int_range,
+    check_nonnegative,
     check_positive,
     check_range,
     set_parameter,
@@ -96,7 +97,7 @@ from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
 from dolfinx_seal.solid.revolve import RevolvedState, serial_copy
 from dolfinx_seal.solid.step_limits import StepLimits, surface_gap_limiter
 from dolfinx_seal.solvers import RotationalPeriodicity, SNESOptions
-from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl
+from dolfinx_seal.solvers.adaptive import AdaptiveWalk, StepControl, TimeBudget
 from dolfinx_seal.surface.asperity import LawHomotopy, area_fraction
 from geometry.lip import LipGeometry, LipSealParams
 from geometry.lip_sector import LipSectorParams
@@ -304,6 +305,24 @@ class LipStaticParameters(LipInstallParameters):
 
 
 @dataclass(frozen=True)
+class SectorStepping:
+    """The speed walk of the sliding sector's sweeps (``lip-dynamic``).
+
+    Attributes:
+        time_budget: Wall time of one sweep's speed walk, after its first speed
+            [s] (0: none), as the lubricated scenes' ``stepping.time_budget``: once
+            spent, the walk stops before its next continuation step, the speed
+            under way is recorded as failed ("stopped at ... m/s: the time budget
+            ... was spent") and the speeds not yet walked to as not attempted.
+    """
+
+    time_budget: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_nonnegative("time_budget", self.time_budget, unit="s")
+
+
+@dataclass(frozen=True)
 class LipDynamicParameters(LipStaticParameters):
     """The lip seal sector on a turning shaft (SI units); the fields of ``lip-static``.
 
@@ -337,6 +356,8 @@ class LipDynamicParameters(LipStaticParameters):
             point of the discrete problem (0.5 % in torque, 11 % in fluid load)
             than walks in quarter-decade steps reach with either predictor, and
             there it was not faster (docs/scenes/lip-sector.md).
+        stepping: The sweeps' speed walk: its ``time_budget`` [s]
+            (:class:`SectorStepping`).
     """
 
     film: FilmParams = field(
@@ -348,6 +369,7 @@ class LipDynamicParameters(LipStaticParameters):
     feedback: bool = False
     lift: bool = False
     tangent: bool = False
+    stepping: SectorStepping = field(default_factory=SectorStepping)
 
     scene_name = "lip-dynamic"
 
@@ -1605,7 +1627,9 @@ def _speed_sweep(
     slowest speed (:func:`pressurise_sliding`), then walked up through the others in
     log10 of the speed (:func:`speed_walker`, each step from the last converged
     film).  A speed the walk does not reach is recorded in ``sweep_failures.csv``
-    and the walk goes on to the next one from the last converged film."""
+    and the walk goes on to the next one from the last converged film; once
+    ``stepping.time_budget`` is spent, the speed under way and the rest are
+    recorded there too (stopped, not attempted)."""
     from dolfinx_seal.output import write_sweep_failures
     from dolfinx_seal.scenes.lip_sector_maps import write_maps
 
@@ -1636,15 +1660,25 @@ def _speed_sweep(
 
         walk = speed_walker(lub, on_accept=accepted)
         film = lub.problem.film
-        for v in speeds:
+        budget = params.stepping.time_budget
+        spent = TimeBudget(budget, lub.mesh.comm if budget else None).spent
+        for i, v in enumerate(speeds):
             t1 = time.perf_counter()
             if rows or failed:
+                if why := spent():
+                    failed += [{"speed": u, "error": f"not attempted: {why}"} for u in speeds[i:]]
+                    get_logger().error("%s: sweep stopped at %g m/s: %s", params.scene_name,
+                                       float(film.speed.value), why)  # fmt: skip
+                    break
                 counted.update(its=0, steps=0)
-                res = walk.walk(float(film.speed.value), v)
+                res = walk.walk(float(film.speed.value), v, stop=spent)
                 if not res.converged:
-                    failed.append({"speed": v, "error": res.error})
+                    error = res.error
+                    if res.stopped:
+                        error = f"stopped at {float(film.speed.value):.4g} m/s: {res.error}"
+                    failed.append({"speed": v, "error": error})
                     get_logger().error("%s: %g m/s not reached: %s", params.scene_name, v,
-                                       res.error)  # fmt: skip
+                                       error)  # fmt: skip
                     continue
                 info = {"newton_iterations": counted["its"],
                         "continuation_steps": counted["steps"]}  # fmt: skip

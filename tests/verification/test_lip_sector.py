@@ -436,9 +436,44 @@ def test_speed_sweep_gives_the_films_of_the_fixture(sliding, mpi_tmp_path):
     assert rows[-1]["continuation_steps"] >= 1
 
 
+def test_a_spent_time_budget_stops_the_speed_sweep(mpi_tmp_path, monkeypatch):
+    """``stepping.time_budget``: once spent, the sweep's walk stops before its next
+    step; the speed under way is recorded as stopped where the walk stood, the
+    speeds after it as not attempted, and the points before are kept.  The budget's
+    clock is replaced by one spent at its third reading (before the walk to 0.1 m/s,
+    before its first one-decade step, before its second), so the test does not
+    depend on the machine's speed."""
+    from dolfinx_seal.output import read_csv
+    from dolfinx_seal.scenes import lip_sector
+
+    why = "the time budget of 60 s was spent"
+    readings = []
+
+    class Clock:
+        def __init__(self, seconds, comm=None):
+            assert seconds == 60.0
+
+        def spent(self):
+            readings.append(1)
+            return why if len(readings) >= 3 else ""
+
+    monkeypatch.setattr(lip_sector, "TimeBudget", Clock)
+    p = make_parameters("lip-dynamic", values={**CHECK, "stepping": {"time_budget": 60.0},
+                                               "film": {"speed": SPEEDS[0]}})  # fmt: skip
+    rows = lip_sector.sweep(p, mpi_tmp_path, "film.speed", [*SPEEDS, 1.0], lambda v, r: None)
+    assert [r["speed"] for r in rows] == [SPEEDS[0]]
+    MPI.COMM_WORLD.barrier()  # written by rank 0
+    failed = read_csv(mpi_tmp_path / "sweep_failures.csv")
+    assert [float(f["speed"]) for f in failed] == [SPEEDS[1], 1.0]
+    assert failed[0]["error"] == f"stopped at 0.01 m/s: {why}"
+    assert failed[1]["error"] == f"not attempted: {why}"
+    assert len(readings) == 4
+
+
 @pytest.mark.parametrize(
     ("values", "name"),
     [({"feedback": 1}, "feedback"), ({"feedback": True, "tangent": 1}, "tangent"),
+     ({"stepping": {"time_budget": -1.0}}, "stepping.time_budget"),
      ({"film": {"speed": 0.0}}, "film.speed"),
      ({"film": {"cavitation": "reynolds"}}, "film.cavitation"),
      ({"film": {"upwind": "none"}}, "film.upwind"),
