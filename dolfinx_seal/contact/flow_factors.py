@@ -329,11 +329,20 @@ class BruggemanFlowFactor:
     ) -> LogHermiteTable:
         """The piecewise cubic Hermite form of :meth:`pressure_factor` in ``ln(u/h_rms)``
         on ``n`` nodes in ``[h_min, h_max] h_rms`` (for the FEM film; see
-        :class:`LogHermiteTable`)."""
+        :class:`LogHermiteTable`).
+
+        Where the film stops percolating above ``h_min h_rms`` (a narrow spectrum,
+        e.g. the homogenised part of a two-scale split far above ``q0``: its
+        percolation separation reaches 0.056 h_rms on the default lip sector with
+        ``q_th = 4 q0``), ``phi_p`` vanishes at ``h_min`` and no table can start
+        there: the first node is then the table's first separation above the
+        percolation one, and the power law below it is the continuation towards
+        contact, as below ``h_min`` otherwise."""
         check_int_range("n", n, 4)
         check_range("h_min", h_min, 0.0, 1.0, lo_open=True, unit="h_rms")
         check_range("h_max", h_max, 2.0, 1e3, unit="h_rms")
-        H = np.geomspace(h_min, h_max, n)
+        lo = h_min if h_min * self.h_rms > self.u_table[0] else self.u_table[1] / self.h_rms
+        H = np.geomspace(lo, h_max, n)
         u = H * self.h_rms
         phi = self.pressure_factor(u)
         dphi_ds = self.dpressure_factor_du(u) * u  # d phi / d ln u

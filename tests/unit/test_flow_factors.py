@@ -110,3 +110,26 @@ def test_log_hermite_table_of_the_bruggeman_factor(emt):
     for kw, name in (({"h_min": 0.0}, "h_min"), ({"h_max": 1.0}, "h_max"), ({"n": 2}, "n")):
         with pytest.raises(ParameterError, match=name):
             emt.hermite_table(**kw)
+
+
+def test_log_hermite_table_of_a_film_that_stops_percolating_above_h_min():
+    """The homogenised part of the default lip sector split at q_th = 4 q0 (q 1.2e6 to
+    1e8 1/m, H 0.8, h_rms 0.165 um, rubber E* 10.7 MPa) stops percolating at 0.056 h_rms,
+    above the table's 0.05 h_rms, where phi_p = 0 and no table can start (before:
+    refused, "nodes must increase and 0 < phi < 1 at the ends").  The table then starts
+    at the first tabulated separation above percolation and is the interpolant there
+    (nodes to 1e-12, between them within 1e-3 as the other table), and below it
+    decays towards contact without leaving [0, 1]."""
+    emt = BruggemanFlowFactor(SelfAffinePSD(1.2e6, 1e8, 0.8, h_rms=1.65e-7), 8e6 / 0.75)
+    u_perc = emt.percolation_separation
+    assert u_perc > 0.05 * emt.h_rms
+    tab = emt.hermite_table(n=25)
+    first = np.exp(tab.s[0]) * emt.h_rms
+    assert first == pytest.approx(emt.u_table[1], rel=1e-12)
+    nodes = np.exp(tab.s) * emt.h_rms
+    np.testing.assert_allclose(tab(nodes), emt.pressure_factor(nodes), rtol=1e-12)
+    u = np.geomspace(first, 12.0 * emt.h_rms, 3001)
+    assert np.abs(tab(u) - emt.pressure_factor(u)).max() < 1e-3
+    below = tab(np.geomspace(1e-3 * emt.h_rms, first, 200))
+    assert np.all((below >= 0.0) & (below <= tab(np.array([first]))[0]))
+    assert np.all(np.diff(below) >= 0.0)
