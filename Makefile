@@ -74,9 +74,9 @@ soak:  ## about 10 min: memory (C heap trimmed before each reading) over a 240-p
 	$(DX) python3 bench/soak.py --trim
 	$(DX) mpirun -n $(NP) python3 bench/soak.py --trim
 
-STABILITY ?= cylinder lip-install lip ball
+STABILITY ?= cylinder lip-install lip ball lip-static lip-dynamic
 
-stability:  ## long (about an hour and a half on 2 cores): the stiff and extreme cases of studies/stability/ (results/stability/SCENE/)
+stability:  ## long (hours: the first four tables about an hour and a half on 2 cores, the two sector tables 50 and 58 min at one rank): the stiff and extreme cases of studies/stability/ (results/stability/SCENE/)
 	for s in $(STABILITY); do $(DX) mpirun -n $(NP) python3 -m dolfinx_seal.cli study stability $$s || exit $$?; done
 
 env:  ## provision only

@@ -30,7 +30,7 @@ from dolfinx_seal.mpi import COMM_WORLD
 from dolfinx_seal.output import read_csv
 from dolfinx_seal.params import get_dotted
 
-SCENES = ("cylinder", "lip-install", "lip", "ball")
+SCENES = ("cylinder", "lip-install", "lip", "ball", "lip-static", "lip-dynamic")
 
 
 def _tables() -> list[stability.Table]:
