@@ -9,7 +9,9 @@ contact gap changes by more than its limit (docs/design.md, solver strategy).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -151,9 +153,7 @@ def displacement_limiter(
     return limit
 
 
-def surface_gap_limiter(
-    prob: Any, closure: float, floor: float
-) -> Callable[[np.ndarray, np.ndarray], float]:
+class SurfaceGapLimiter:
     """Pre-check limiting how much a Newton step closes the contact gaps, with the gap
     and the counter normal evaluated from the problem itself (``prob.gap`` and
     ``prob.counter.normal``), for counter-surfaces whose normal is no coordinate
@@ -165,63 +165,94 @@ def surface_gap_limiter(
     At each contact node of the displacement (fixed counter position) the step
     changes the gap by ``dg = n . du``; it may close a positive gap by at most the
     fraction ``closure`` of itself and open it by at most ``1 / (1 - closure)``, or
-    change it by ``floor`` [m], whichever is larger; a gap at or below zero may open
-    freely.  The current state is the one the problem's functions hold (the
-    solver evaluated its residual and Jacobian there before the step).
+    change it by :attr:`floor` [m], whichever is larger, but take no positive gap
+    more than :attr:`crossing` [m] below zero, nor close one at or below zero by
+    more than that; a gap at or below zero may open freely.
+    The current state is the one the problem's functions hold (the solver
+    evaluated its residual and Jacobian there before the step).
+
+    Attributes:
+        floor: The change [m] every gap may make whatever its size: it lets
+            Newton close many small gaps at once.
+        crossing: How far past zero [m] one step may close a gap (``inf``: no
+            limit); settable between solves (:meth:`crossing_set`).  A resolved
+            crest near zero separation is then not driven through it, by up to
+            the floor, into the contact law's steep continuation below its
+            window.
     """
-    import dolfinx.fem as fem
-    import dolfinx.mesh as dmesh
 
-    from dolfinx_seal.compat import interpolation_points
+    def __init__(self, prob: Any, closure: float, floor: float) -> None:
+        import dolfinx.fem as fem
+        import dolfinx.mesh as dmesh
 
-    check_range("closure", closure, 0.0, 1.0, lo_open=True, hi_open=True)
-    check_positive("floor", floor, "m")
-    Vu = prob.W.sub(0) if prob.material.mixed else prob.W
-    n_own = prob.W.dofmap.index_map.size_local * prob.W.dofmap.index_map_bs
-    gdim = prob.mesh.geometry.dim
-    fdim = prob.mesh.topology.dim - 1
-    facets = prob.facet_tags.find(prob.contact_tag)
-    parents, nodes = [], None
-    for c in range(gdim):
-        sub = Vu.sub(c)
-        collapsed, _ = sub.collapse()
-        parent, cd = fem.locate_dofs_topological((sub, collapsed), fdim, facets)
-        keep = parent < n_own
-        parents.append(np.asarray(parent[keep]))
-        if nodes is None:
-            S, nodes = collapsed, np.asarray(cd[keep])
-    prob.mesh.topology.create_connectivity(fdim, prob.mesh.topology.dim)
-    cells = dmesh.compute_incident_entities(prob.mesh.topology, facets, fdim, fdim + 1)
-    pts = interpolation_points(S.element)
-    normal = prob.counter.normal(prob.x)
-    comm = prob.mesh.comm
-    exprs = [
-        fem.Expression(e, pts, comm=comm) for e in (prob.gap, *(normal[c] for c in range(gdim)))
-    ]
-    funcs = [fem.Function(S) for _ in exprs]
-    # force control: the counter position (the last block) moves too, and the gap
-    # (coordinate along the normal minus the position) with it
-    pos_index = _position_index(prob) if prob.control == "force" else None
+        from dolfinx_seal.compat import interpolation_points
 
-    def limit(x: np.ndarray, dx: np.ndarray) -> float:
-        for f, e in zip(funcs, exprs, strict=True):
-            f.interpolate(e, cells0=cells)
-        g = funcs[0].x.array[nodes]
+        check_range("closure", closure, 0.0, 1.0, lo_open=True, hi_open=True)
+        check_positive("floor", floor, "m")
+        self.closure, self.floor = float(closure), float(floor)
+        self.crossing = math.inf
+        Vu = prob.W.sub(0) if prob.material.mixed else prob.W
+        n_own = prob.W.dofmap.index_map.size_local * prob.W.dofmap.index_map_bs
+        self._gdim = gdim = prob.mesh.geometry.dim
+        fdim = prob.mesh.topology.dim - 1
+        facets = prob.facet_tags.find(prob.contact_tag)
+        parents, nodes = [], None
+        for c in range(gdim):
+            sub = Vu.sub(c)
+            collapsed, _ = sub.collapse()
+            parent, cd = fem.locate_dofs_topological((sub, collapsed), fdim, facets)
+            keep = parent < n_own
+            parents.append(np.asarray(parent[keep]))
+            if nodes is None:
+                S, nodes = collapsed, np.asarray(cd[keep])
+        self._parents, self._nodes = parents, nodes
+        prob.mesh.topology.create_connectivity(fdim, prob.mesh.topology.dim)
+        self._cells = dmesh.compute_incident_entities(prob.mesh.topology, facets, fdim, fdim + 1)
+        pts = interpolation_points(S.element)
+        normal = prob.counter.normal(prob.x)
+        self._comm = comm = prob.mesh.comm
+        self._exprs = [
+            fem.Expression(e, pts, comm=comm) for e in (prob.gap, *(normal[c] for c in range(gdim)))
+        ]
+        self._funcs = [fem.Function(S) for _ in self._exprs]
+        # force control: the counter position (the last block) moves too, and the gap
+        # (coordinate along the normal minus the position) with it
+        self._prob = prob
+        self._pos_index = _position_index(prob) if prob.control == "force" else None
+
+    @contextmanager
+    def crossing_set(self, crossing: float) -> Iterator[None]:
+        """:attr:`crossing` [m] inside the block, restored on leaving it (also on error)."""
+        check_positive("crossing", crossing, "m")
+        saved, self.crossing = self.crossing, float(crossing)
+        try:
+            yield
+        finally:
+            self.crossing = saved
+
+    def __call__(self, x: np.ndarray, dx: np.ndarray) -> float:
+        for f, e in zip(self._funcs, self._exprs, strict=True):
+            f.interpolate(e, cells0=self._cells)
+        nodes = self._nodes
+        g = self._funcs[0].x.array[nodes]
         # PETSc steps x -> x - dx: the surface moves by -dx, the gap by n . (-dx)
-        dg = -sum(funcs[1 + c].x.array[nodes] * dx[parents[c]] for c in range(gdim))
-        if pos_index is not None:  # and the position by -dx: the gap by +dx
-            mine = float(dx[pos_index]) if prob._owns_position else None
-            dg = dg + comm.bcast(mine, root=prob._pos_root)
+        dg = -sum(
+            self._funcs[1 + c].x.array[nodes] * dx[self._parents[c]] for c in range(self._gdim)
+        )
+        prob = self._prob
+        if self._pos_index is not None:  # and the position by -dx: the gap by +dx
+            mine = float(dx[self._pos_index]) if prob._owns_position else None
+            dg = dg + self._comm.bcast(mine, root=prob._pos_root)
+        closure = self.closure
         gp = np.maximum(g, 0.0)
-        allowed = np.where(dg < 0.0, closure * gp, closure / (1.0 - closure) * gp)
-        allowed = np.maximum(allowed, floor)
+        floor = np.minimum(self.floor, gp + self.crossing)  # closing: not past -crossing
+        allowed = np.where(dg < 0.0, np.maximum(closure * gp, floor),
+                           np.maximum(closure / (1.0 - closure) * gp, self.floor))  # fmt: skip
         allowed[(g <= 0.0) & (dg > 0.0)] = np.inf
         moving = np.abs(dg) > allowed
         if not moving.any():
             return 1.0
         return float((allowed[moving] / np.abs(dg[moving])).min())
-
-    return limit
 
 
 def _position_index(prob: Any) -> int:
@@ -251,4 +282,4 @@ def rigid_gap_limiter(prob: Any) -> Callable[[np.ndarray, np.ndarray], float]:
     return limit
 
 
-__all__ = ["StepLimits", "displacement_limiter", "rigid_gap_limiter", "surface_gap_limiter"]
+__all__ = ["StepLimits", "SurfaceGapLimiter", "displacement_limiter", "rigid_gap_limiter"]
