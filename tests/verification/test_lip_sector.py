@@ -316,7 +316,7 @@ def test_the_gap_limit_closes_no_gap_by_more_than_half_or_its_floor(sector):
     and at least one gap closes by exactly that (the limit is not looser than it
     must be).  Inside ``crossing_set`` (the roughness homotopy's
     ``CREST_CROSSING h_rms``) no positive gap is taken further below zero than the
-    crossing, though the floor is forty times wider; it is restored on
+    crossing, though the floor is tens of times wider; it is restored on
     leaving, also when the block raises."""
     from dolfinx_seal.scenes.lip_sector import CREST_CROSSING
 
