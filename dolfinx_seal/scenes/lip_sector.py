@@ -504,7 +504,7 @@ class SectorLip:
     tangent: bool = False
     sliding_point: tuple[float, list[Any]] | None = None
     steps: dict[str, Any] = field(default_factory=dict)
-    gap_limiter: Any = None
+    gap_limiter: SurfaceGapLimiter | None = None
 
     @property
     def per_revolution(self) -> float:

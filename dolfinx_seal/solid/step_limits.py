@@ -230,15 +230,25 @@ class SurfaceGapLimiter:
         finally:
             self.crossing = saved
 
-    def __call__(self, x: np.ndarray, dx: np.ndarray) -> float:
+    @property
+    def contact_dofs(self) -> tuple[np.ndarray, ...]:
+        """Per displacement component, the owned dofs of the contact nodes in the
+        solver's vector (the order of :meth:`nodal_gap`'s values)."""
+        return tuple(self._parents)
+
+    def nodal_gap(self) -> tuple[np.ndarray, np.ndarray]:
+        """The gap [m] and the counter normal (one row per component) at the owned
+        contact nodes, evaluated from the state the problem's functions hold."""
         for f, e in zip(self._funcs, self._exprs, strict=True):
             f.interpolate(e, cells0=self._cells)
         nodes = self._nodes
-        g = self._funcs[0].x.array[nodes]
+        normal = np.array([self._funcs[1 + c].x.array[nodes] for c in range(self._gdim)])
+        return self._funcs[0].x.array[nodes].copy(), normal
+
+    def __call__(self, x: np.ndarray, dx: np.ndarray) -> float:
+        g, normal = self.nodal_gap()
         # PETSc steps x -> x - dx: the surface moves by -dx, the gap by n . (-dx)
-        dg = -sum(
-            self._funcs[1 + c].x.array[nodes] * dx[self._parents[c]] for c in range(self._gdim)
-        )
+        dg = -sum(normal[c] * dx[self._parents[c]] for c in range(self._gdim))
         prob = self._prob
         if self._pos_index is not None:  # and the position by -dx: the gap by +dx
             mine = float(dx[self._pos_index]) if prob._owns_position else None

@@ -324,13 +324,11 @@ def test_the_gap_limit_closes_no_gap_by_more_than_half_or_its_floor(sector):
     prob, lim = lub.problem, lub.gap_limiter
     comm = prob.mesh.comm
     x = prob.solver.x.getArray(readonly=True).copy()
-    lim(x, np.zeros_like(x))  # evaluates the gap and the normal at the contact nodes
-    g = lim._funcs[0].x.array[lim._nodes].copy()
-    n = [lim._funcs[1 + c].x.array[lim._nodes].copy() for c in range(3)]
+    g, n = lim.nodal_gap()
     delta = 10.0 * comm.allreduce(float(g.max(initial=0.0)), op=MPI.MAX)
     dx = np.zeros_like(x)
     for c in range(3):  # PETSc steps x -> x - dx: the surface moves by -delta n
-        dx[lim._parents[c]] = delta * n[c]
+        dx[lim.contact_dofs[c]] = delta * n[c]
     floor = lim.floor
     crossing = CREST_CROSSING * prob.law.h_rms
     assert crossing < 0.1 * floor
