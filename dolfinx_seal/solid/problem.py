@@ -72,6 +72,10 @@ class SteppingOptions:
         max_newton: Newton steps allowed to one step before it counts as failed and
             is cut (0: the solver's own limit).  A step that needs many more than
             an accepted step does usually ends in a NaN or the limit anyway.
+        stall_steps: A step also fails once this many consecutive Newton steps
+            have each lowered the residual by less than 1 % (0: never;
+            :meth:`~dolfinx_seal.solvers.NonlinearSolver.newton_limit`), the
+            continuation's rule (:class:`~dolfinx_seal.coupled.continuation.SpeedStepping`).
     """
 
     first: float = 0.25
@@ -83,6 +87,7 @@ class SteppingOptions:
     predictor: bool = False
     max_increment: float | None = None
     max_newton: int = 0
+    stall_steps: int = 0
 
     def __post_init__(self) -> None:
         check_range("first", self.first, 0.0, 1.0, lo_open=True)
@@ -92,6 +97,7 @@ class SteppingOptions:
         check_int_range("easy", self.easy, 1)
         check_int_range("max_steps", self.max_steps, 1)
         check_int_range("max_newton", self.max_newton, 0)
+        check_int_range("stall_steps", self.stall_steps, 0)
         if self.max_increment is not None:
             check_positive("max_increment", self.max_increment)
 
@@ -547,7 +553,7 @@ class SolidContactProblem:
             self.state, self.restore, predictor=self._predict if st.predictor else None,
             on_accept=record, name=f"{self.name} load stepping",
         )  # fmt: skip
-        with self.solver.newton_limit(st.max_newton):
+        with self.solver.newton_limit(st.max_newton, st.stall_steps):
             res = walk.walk(t_start, t_end, stop=stop)
         if res.converged:
             return self.steps
