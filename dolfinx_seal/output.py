@@ -75,6 +75,10 @@ RESULTS: dict[str, tuple[str, str, bool]] = {
     "discrete_upwinding_weight": (
         "-", "weight of film.discrete_upwinding's term in the film (0: the default scheme's)", False,
     ),
+    "suction_load_fraction": (
+        "-", "pull of a starved JFO film's pressures below 0 (at theta = 0) over its push",
+        False,
+    ),
     "max_contact_pressure": ("Pa", "peak asperity contact pressure", True),
     "leakage_rate": ("m^3/s", "volume flow through the seal", True),
     "friction_torque": ("N m", "friction torque on the shaft", True),

@@ -45,7 +45,8 @@ Point statuses:
     film (``h_min`` below :data:`~dolfinx_seal.film.surface.CONTINUUM_FILM`, 2 nm,
     or negative), or a film of neither film scheme (``discrete_upwinding_weight``
     strictly between 0 and 1: the release of the discrete upwinding stopped
-    short), with the reason;
+    short), or a starved film that pulls on the body (``suction_load_fraction``
+    above :data:`SUCTION_LIMIT`), with the reasons;
 ``refused``
     the input checks refused the case before anything was assembled (a case
     marked ``expect = "refused"``: physics says there is no solution);
@@ -83,6 +84,10 @@ from dolfinx_seal.params import flatten
 TABLES = Path(__file__).resolve().parents[1] / "studies" / "stability"
 
 STATUSES = ("converged", "suspect", "failed", "stopped", "not attempted", "refused", "nan")
+
+#: A point is suspect when its starved film pulls on the body with more than this
+#: fraction of the film's push (``suction_load_fraction``).
+SUCTION_LIMIT = 0.01
 
 #: Columns of ``stability.csv`` besides the headline results a point reports.
 COLUMNS = (
@@ -294,21 +299,35 @@ def _point_row(case: Case, value: Any, status: str, res: Mapping[str, Any] | Non
         if bad:
             row["status"] = "nan"
             error = f"not finite: {', '.join(bad)}"
-        elif isinstance(res.get("h_min"), float) and res["h_min"] < CONTINUUM_FILM:
-            row["status"] = "suspect"
-            error = (
-                f"converged to a film thinner than a continuum film ({CONTINUUM_FILM:.0e} m): "
-                f"h_min = {res['h_min']:.3g} m"
-            )
-        elif 0.0 < float(res.get("discrete_upwinding_weight", 0.0)) < 1.0:
-            row["status"] = "suspect"
-            error = (
-                "converged to a film of neither scheme (the release of the discrete "
-                f"upwinding stopped short): discrete_upwinding_weight = "
-                f"{res['discrete_upwinding_weight']:.3g}"
-            )
+        else:
+            reasons = _suspect_reasons(res)
+            if reasons:
+                row["status"] = "suspect"
+                error = "; ".join(reasons)
     row["error"] = " ".join(error.split())
     return row
+
+
+def _suspect_reasons(res: dict[str, Any]) -> list[str]:
+    """Why a converged point lies outside the model (empty: it does not)."""
+    reasons = []
+    if isinstance(res.get("h_min"), float) and res["h_min"] < CONTINUUM_FILM:
+        reasons.append(f"converged to a film thinner than a continuum film ({CONTINUUM_FILM:.0e} "
+                       f"m): h_min = {res['h_min']:.3g} m")  # fmt: skip
+    if 0.0 < float(res.get("discrete_upwinding_weight", 0.0)) < 1.0:
+        reasons.append(
+            "converged to a film of neither scheme (the release of the discrete "
+            f"upwinding stopped short): discrete_upwinding_weight = "
+            f"{res['discrete_upwinding_weight']:.3g}"
+        )
+    suction = res.get("suction_load_fraction")
+    if isinstance(suction, float) and suction > SUCTION_LIMIT:
+        reasons.append(
+            "a starved film pulls on the body (p < 0 where theta = 0, from a non-monotone "
+            f"transport scheme): suction_load_fraction = {suction:.3g}; "
+            "film.discrete_upwinding = true is monotone"
+        )
+    return reasons
 
 
 def _read_failures(out: Path) -> dict[float, str]:

@@ -308,3 +308,23 @@ def test_a_converged_point_that_is_not_finite_or_physical_is_flagged():
                                  {"mu": 0.1, "h_min": 1e-7, "discrete_upwinding_weight": w})  # fmt: skip
         assert r["status"] == want, (w, r)
         assert ("discrete_upwinding_weight = 0.0781" in r["error"]) == (want == "suspect")
+
+
+def test_a_starved_film_that_pulls_is_flagged_with_every_reason():
+    """A starved JFO film whose pressures below zero pull on the body with more than
+    ``SUCTION_LIMIT`` of its push is suspect, and a point with two reasons names both
+    (the fine shaft's sliding rows: a negative ``h_min`` and a pull of 42 % and more)."""
+    case = stability.Case(name="c", over="film.speed", values=(1.0,))
+    lim = stability.SUCTION_LIMIT
+    for s, want in ((0.0, "converged"), (0.5 * lim, "converged"), (2.0 * lim, "suspect")):
+        r = stability._point_row(case, 1.0, "converged",
+                                 {"mu": 0.1, "h_min": 1e-7, "suction_load_fraction": s})  # fmt: skip
+        assert r["status"] == want, (s, r)
+        assert ("suction_load_fraction" in r["error"]) == (want == "suspect")
+    both = stability._point_row(case, 1.0, "converged",
+                                {"mu": 0.1, "h_min": -9.8e-9, "suction_load_fraction": 0.42})  # fmt: skip
+    assert both["status"] == "suspect"
+    assert "h_min = -9.8e-09 m" in both["error"] and "suction_load_fraction = 0.42" in both["error"]
+    only = stability._point_row(case, 1.0, "converged",
+                                {"mu": 0.1, "h_min": 1e-7, "suction_load_fraction": math.inf})  # fmt: skip
+    assert only["status"] == "nan"  # a film that only pulls: not finite, flagged as such

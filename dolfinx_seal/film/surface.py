@@ -815,10 +815,17 @@ class SurfaceFilm:
         (UFL): where the film's coefficients are the floor's, not the gap's."""
         return ufl.conditional(ufl.le(self.ctx.gap, self.floor), 1.0, 0.0)
 
-    def normal_force_integrand(self) -> Any:
-        """Fluid force on the body along the counter normal, per reference area [Pa]."""
+    def normal_force_integrand(self, part: str = "all") -> Any:
+        """Fluid force on the body along the counter normal, per reference area [Pa].
+
+        ``part``: ``"all"``, or the force of the pressures above (``"push"``) or
+        below (``"suction"``) the cavitation pressure 0 alone.
+        """
+        check_choice("part", part, ("all", "push", "suction"))
         nanson = tractions.nanson_normal(self.ctx.F, self.ctx.N3)
-        return -self.p * ufl.dot(nanson, self.ctx.e_n) * self.ctx.weight
+        p = {"all": self.p, "push": ufl.max_value(self.p, 0.0),
+             "suction": ufl.min_value(self.p, 0.0)}[part]  # fmt: skip
+        return -p * ufl.dot(nanson, self.ctx.e_n) * self.ctx.weight
 
     # ---------------------------------------------------------------- outputs
     def owned_gaps(self) -> np.ndarray:
