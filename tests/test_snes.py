@@ -476,8 +476,45 @@ def test_kept_factorisation_gives_the_same_solution_with_fewer_factorisations():
 
 
 def test_kept_factorisation_is_refused_where_the_pattern_changes():
-    with pytest.raises(ParameterError, match="factor_reuse_its = 5 needs a fixed matrix pattern"):
-        SNESOptions(snes_type="vinewtonrsls", factor_reuse_its=5)
+    for kind, solve in (("vinewtonrsls", "submatrix"), ("vinewtonssls", "full_pattern")):
+        with pytest.raises(ParameterError, match="factor_reuse_its = 5 needs a fixed matrix pat"):
+            SNESOptions(snes_type=kind, vi_linear_solve=solve, factor_reuse_its=5)
+    SNESOptions(snes_type="vinewtonrsls", factor_reuse_its=5)  # the full pattern keeps one
+
+
+def test_reduced_space_vi_keeps_the_full_pattern_factorisation_across_steps_and_solves():
+    """``vinewtonrsls`` with ``vi_linear_solve = "full_pattern"`` and ``factor_reuse_its``:
+    GMRES on the reduced system, preconditioned by a kept LU of the full pattern
+    (possibly of another active set), made afresh only after a slow linear solve.
+    On a continuation in the load of the loaded string (the contact set grows from
+    solve to solve) it takes the same Newton steps to the same solutions as a
+    factorisation every step, with far fewer factorisations (1 and 2 ranks)."""
+    PETSc.Log.begin()
+    comm = MPI.COMM_WORLD
+    runs = {}
+    for k in (0, 8):
+        opts = SNESOptions(factor_reuse_its=k, rtol=1e-12)
+        solver, u, _psi, load = _loaded_string_on_obstacle(comm, 2.0, options=opts)
+        n0, steps, sols, its = _numeric_factorisations(), [], [], []
+        for value in (2.0, 2.2, 2.4, 2.6, 3.0):
+            load.value = value
+            h = solver.solve()
+            assert h.complementarity <= 1e-9
+            steps.append(h.newton_iterations)
+            its += h.linear_iterations
+            sols.append(u.x.array.copy())
+        runs[k] = (steps, sols, _numeric_factorisations() - n0, its)
+        assert solver.snes.getKSP().getType() == ("gmres" if k else "preonly")
+        assert solver._full_lu.factorisations == runs[k][2]
+        solver.destroy()
+    (steps0, sols0, lu0, _), (steps8, sols8, lu8, its8) = runs[0], runs[8]
+    assert sum(steps0) >= 25  # the contact set moves over many steps
+    assert steps8 == steps0
+    for a, b in zip(sols0, sols8, strict=True):
+        assert np.allclose(a, b, rtol=0, atol=1e-12)
+    assert lu0 == sum(steps0)  # one factorisation per Newton step
+    # a new factorisation only after a linear solve of more than 8 GMRES iterations
+    assert lu8 == 1 + sum(1 for n in its8[:-1] if n > 8) < lu0 / 5
 
 
 def test_solver_session_reaches_every_solver_built_inside_it():
@@ -493,7 +530,8 @@ def test_solver_session_reaches_every_solver_built_inside_it():
     h = s.solve()
     assert s.snes.getKSP().getType() == "gmres" and h.complementarity <= 1e-9
     assert np.allclose(u.x.array, u_ref.x.array, atol=1e-10)
-    assert with_snes_type(s.options, "vinewtonrsls").factor_reuse_its == 0
+    assert with_snes_type(s.options, "vinewtonrsls").factor_reuse_its == 20  # full pattern
+    assert with_snes_type(s.options, "vinewtonssls").factor_reuse_its == 0
     s.set_snes_type("vinewtonssls")
     assert s.options.factor_reuse_its == 0
     other, _ = _string_on_obstacle(MPI.COMM_WORLD)

@@ -98,6 +98,17 @@ BALL_MAX_NEWTON = 12
 #: 88 s -> 56 s, the sweep 340 s -> 298 s; mu, h_central, h_min within 4.4e-13.
 BALL_STALL_STEPS = 2
 
+#: GMRES iterations a linear solve of the ball's coupled Newton (the reduced-space
+#: VI, ``p >= 0``) may take before its kept LU is made afresh
+#: (``SNESOptions.factor_reuse_its``, through the full pattern; JFO's semismooth
+#: Newton keeps a factorisation per step, where it was measured to be no lever).
+#: Measured on the 30-speed sweep of ``bench/perf.py`` (2 ranks, 7 December, this
+#: machine idle): 112 -> 41 numeric factorisations, 112 -> 115 Newton steps, a
+#: continuation point 12.1 -> 9.6 s, the sweep 495 -> 403 s; mu, h_central, h_min
+#: within 1.7e-11 of a factorisation every step.  With 20: 20 factorisations and
+#: 8.9 s a point, but 122 Newton steps (the last point retried) and 468 s.
+BALL_FACTOR_REUSE = 8
+
 
 @dataclass(frozen=True)
 class BallParameters:
@@ -272,7 +283,12 @@ def problem(p: BallParameters, tm: TaggedMesh, s: Scales, law: Any, film: Any,
     # jumped to a residual 4x the start at step 10; with "bt" it reached 0.01 m/s.
     # (JFO: full steps, film_snes)
     lub = film is not None
-    snes = film_snes(p.film, line_search="bt") if lub else SNESOptions(max_it=60, dtol=1e12)
+    if not lub:
+        snes = SNESOptions(max_it=60, dtol=1e12)
+    elif p.film.cavitation == "jfo":
+        snes = film_snes(p.film, line_search="bt")
+    else:
+        snes = film_snes(p.film, line_search="bt", factor_reuse_its=BALL_FACTOR_REUSE)
     limits = StepLimits(
         max_step=0.5 * p.element_size,
         max_gap_step=3.0 * law.h_rms / law.alpha if law is not None else None,  # decay lengths

@@ -26,10 +26,12 @@
   (``vi_linear_solve = "full_pattern"``): the inactive rows' system solved by
   one LU of the full Jacobian with identity rows at the active bounds, so MUMPS
   analyses the pattern once per solver instead of every Newton step;
+* a kept factorisation as GMRES's preconditioner (``factor_reuse_its``), made
+  afresh only after a slow linear solve, across Newton steps and solves: with
+  ``newtonls``, with the fixed-pattern semismooth VI, and with the full
+  pattern's LU of the reduced-space VI (the ball's default, issue 18);
 * an opt-in fixed-pattern VI solver (``snes_type = "semismooth"``: identity rows
-  at active bounds written into the matrix's own pattern) and, with it, a kept
-  factorisation as GMRES's preconditioner (``factor_reuse_its``), rebuilt only
-  after a slow linear solve (issue 18; the default is unchanged);
+  at active bounds written into the matrix's own pattern);
 * a penalty warm start for VIs (:meth:`NonlinearSolver.solve_penalty`): the
   bounds are first enforced by a dof-wise penalty ``kappa_i min(x_i - l_i, 0)``
   with ``kappa_i`` a multiple of the Jacobian diagonal, stepped up by decades
@@ -174,7 +176,10 @@ class SNESOptions:
             kept as the right preconditioner of GMRES across Newton steps and
             solves (continuation points), and rebuilt at the next Newton step
             after a linear solve that took more than ``k`` iterations or failed.
-            Needs a fixed matrix pattern: ``newtonls`` or ``semismooth``.
+            Needs a fixed matrix pattern: ``newtonls``, ``semismooth``, or
+            ``vinewtonrsls`` with ``vi_linear_solve = "full_pattern"`` (GMRES on
+            the reduced system, the kept LU of the full pattern, possibly of
+            another active set, as its preconditioner).
         linear_rtol: GMRES relative tolerance when ``factor_reuse_its > 0``.
         vi_linear_solve: How ``vinewtonrsls`` solves its reduced system
             ``J_II dx_I = -F_I`` (I: the rows off an active bound) with a direct
@@ -216,11 +221,12 @@ class SNESOptions:
     def __post_init__(self) -> None:
         check_choice("snes_type", self.snes_type, ("newtonls", *_BOUNDED_TYPES))
         check_int_range("factor_reuse_its", self.factor_reuse_its, 0)
-        if self.factor_reuse_its and self.snes_type in _VI_TYPES:
+        if self.factor_reuse_its and not _keeps_pattern(self.snes_type, self.vi_linear_solve):
             raise ParameterError(
                 f"factor_reuse_its = {self.factor_reuse_its} needs a fixed matrix pattern: "
-                f"snes_type 'newtonls' or 'semismooth', not '{self.snes_type}' (its reduced "
-                "or rescaled matrix changes every step)"
+                "snes_type 'newtonls', 'semismooth', or 'vinewtonrsls' with vi_linear_solve "
+                f"'full_pattern'; not '{self.snes_type}' with '{self.vi_linear_solve}' (its "
+                "reduced or rescaled matrix changes every step)"
             )
         check_positive("linear_rtol", self.linear_rtol)
         check_choice("vi_linear_solve", self.vi_linear_solve, _VI_LINEAR_SOLVES)
@@ -386,6 +392,7 @@ class NonlinearSolver:
         # global PETSc options entries this solver set: key -> the SNES's prefix
         self._own_options: dict[str, str] = {}
         self._full_lu: _FullPatternLU | None = None  # vi_linear_solve = "full_pattern"
+        self._lu_in_pc = False  # the main SNES's preconditioner is self._full_lu
         self._snes = self._make_snes(self.options, self.prefix, bounded=self.has_bounds)
         self._snes_penalty: PETSc.SNES | None = None
         self._tangent_ksp: PETSc.KSP | None = None
@@ -444,7 +451,24 @@ class NonlinearSolver:
         }
         if o.pc_type in ("lu", "cholesky"):
             defaults["pc_factor_mat_solver_type"] = o.factor_solver
-        if o.factor_reuse_its:
+        full_pattern = (
+            bounded
+            and o.snes_type == "vinewtonrsls"
+            and o.vi_linear_solve == "full_pattern"
+            and o.ksp_type == "preonly"
+            and o.pc_type == "lu"
+        )
+        if o.factor_reuse_its and full_pattern:
+            # GMRES on the reduced system, preconditioned by the full pattern's kept
+            # LU (_FullPatternLU decides when to factorise afresh: PETSc resets a
+            # reduced-space VI's preconditioner every step, so no SNES lag applies)
+            defaults.update({
+                "ksp_type": "gmres", "ksp_pc_side": "right", "ksp_rtol": o.linear_rtol,
+                "ksp_gmres_restart": 2 * o.factor_reuse_its + 10,
+                "ksp_max_it": 2 * o.factor_reuse_its + 10,
+                "snes_max_linear_solve_fail": o.max_it + 1,
+            })  # fmt: skip
+        elif o.factor_reuse_its:
             defaults.update({
                 "ksp_type": "gmres", "ksp_pc_side": "right", "ksp_rtol": o.linear_rtol,
                 "ksp_gmres_restart": 2 * o.factor_reuse_its + 10,
@@ -456,13 +480,6 @@ class NonlinearSolver:
                 # solves; _jacobian resets it after a slow linear solve
                 "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
             })  # fmt: skip
-        full_pattern = (
-            bounded
-            and o.snes_type == "vinewtonrsls"
-            and o.vi_linear_solve == "full_pattern"
-            and o.ksp_type == "preonly"
-            and o.pc_type == "lu"
-        )
         if full_pattern:  # the reduced system through the full pattern's LU
             defaults["pc_type"] = "python"  # its inner LU is given the factor package
             defaults.pop("pc_factor_mat_solver_type", None)
@@ -487,9 +504,12 @@ class NonlinearSolver:
         snes.setFromOptions()
         snes.getKSP().setFromOptions()
         pc = snes.getKSP().getPC()
-        if full_pattern and pc.getType() == "python":  # not overridden on the command line
+        # the kept factorisation is the full pattern's (not the SNES's lag)
+        self._lu_in_pc = full_pattern and pc.getType() == "python"
+        if self._lu_in_pc:  # not overridden on the command line
             if self._full_lu is None:  # its work objects are freed with the old SNES's PC
                 self._full_lu = _FullPatternLU(self, prefix)
+            self._full_lu.reuse_its = o.factor_reuse_its
             pc.setPythonContext(self._full_lu)
         if not opts.hasName(prefix + "snes_divergence_tolerance"):
             snes.setDivergenceTolerance(o.dtol)
@@ -547,7 +567,7 @@ class NonlinearSolver:
                 work.destroy()
             start = A.getOwnershipRange()[0]
             A.zeroRows(self._ssn_rows + start, diag=1.0)  # collective; keeps the pattern
-        if self.options.factor_reuse_its and self._main_solve:  # a linear solve follows
+        if self.options.factor_reuse_its and self._main_solve and not self._lu_in_pc:
             self._maybe_rebuild_factorisation(snes)
 
     def _maybe_rebuild_factorisation(self, snes: PETSc.SNES) -> None:
@@ -887,7 +907,10 @@ class NonlinearSolver:
         pattern (``vi_linear_solve = "full_pattern"``), and the unknowns still those
         its last solve converged to, the tangent reuses the factorisation of that
         solve's last Newton step (its active set; the Jacobian one step before
-        convergence): two triangular solves, no assembly, no factorisation.  After
+        convergence; with ``factor_reuse_its``, the kept one, possibly of an
+        earlier step or solve, so the tangent is approximate: on the ball's sweep
+        the continuation points still took 3 Newton steps each): two triangular
+        solves, no assembly, no factorisation.  After
         a failed solve, or with other unknowns, the factorisation is not theirs.
         Otherwise one direct solve with the Jacobian at the current unknowns, by
         its own KSP (``<prefix>tangent_``: LU by ``factor_solver``) with the
@@ -1141,7 +1164,14 @@ class _FullPatternLU:
     [0, I]] [y_I; y_A] = [r_I; 0]`` gives ``y_A = 0`` and ``J_II y_I = r_I``.  The
     work matrix is one object with one pattern, so only the numeric factorisation
     is repeated.  The inner solver has the owner's options prefix, so
-    ``-<prefix>mat_mumps_*`` options reach it."""
+    ``-<prefix>mat_mumps_*`` options reach it.
+
+    With ``reuse_its = k > 0`` (``SNESOptions.factor_reuse_its``) the outer KSP is
+    GMRES (right preconditioned) on ``J_II`` and the factorisation is kept across
+    Newton steps and solves: it is made afresh only at a set-up that follows a
+    linear solve of more than ``k`` GMRES iterations (or a failed one).  A kept
+    factorisation may hold another active set than the step's; the padded solve
+    is then an approximate inverse of ``J_II``, which GMRES corrects."""
 
     def __init__(self, owner: NonlinearSolver, prefix: str) -> None:
         self.owner = owner
@@ -1151,7 +1181,12 @@ class _FullPatternLU:
         self.xf: PETSc.Vec | None = None
         self.yf: PETSc.Vec | None = None
         self.nz = 0.0  # nonzeros of the Jacobian the work matrix was copied from
-        self.factored_inactive: PETSc.IS | None = None  # the last set-up's inactive set
+        self.factored_inactive: PETSc.IS | None = None  # the factorisation's inactive set
+        self.reuse_its = 0  # > 0: the factorisation is kept (see the class docstring)
+        self.applies = 0  # preconditioner applications since the last set-up
+        self.factorisations = 0  # numeric factorisations made (kept ones not counted)
+        #: whether the factorisation is of the Jacobian of the last set-up
+        self.fresh = False
 
     def _inactive(self) -> PETSc.IS:
         return self.owner._snes.getVIInactiveSet()
@@ -1161,6 +1196,24 @@ class _FullPatternLU:
         nz = A.getInfo(PETSc.Mat.InfoType.GLOBAL_SUM)["nz_used"]
         if self.W is not None and nz != self.nz:  # the Jacobian's pattern changed
             self.destroy()
+        # right-preconditioned GMRES applies the preconditioner once per iteration
+        # and once more for the solution (k iterations: k + 1)
+        applies, self.applies = self.applies, 0
+        if (
+            self.reuse_its
+            and self.ksp is not None
+            and 0 < applies <= self.reuse_its + 1
+            and self.owner._snes.getKSP().getConvergedReason() >= 0
+        ):
+            self.fresh = False
+            return
+        self._factorise(pc)
+
+    def _factorise(self, pc: PETSc.PC) -> None:
+        """Copy the owner's Jacobian into the work matrix, identity rows at the
+        step's active bounds, and factorise it."""
+        A = self.owner.A
+        nz = A.getInfo(PETSc.Mat.InfoType.GLOBAL_SUM)["nz_used"]
         if self.W is None:
             self.W = A.duplicate(copy=True)
             self.W.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
@@ -1191,6 +1244,8 @@ class _FullPatternLU:
         # (numerically only: one object, one pattern) inside the next solve, as the
         # work matrix has changed, and apply() passes on a failure found there
         self.ksp.setUp()
+        self.factorisations += 1
+        self.fresh = True
         failed = self.ksp.getPC().getFailedReason()
         if failed:
             pc.setFailedReason(failed)
@@ -1206,6 +1261,7 @@ class _FullPatternLU:
         return self.ksp.getConvergedReason() >= 0
 
     def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        self.applies += 1
         inact = self._inactive()
         if not self._solve_padded(inact, x):
             pc.setFailedReason(self.ksp.getPC().getFailedReason() or 1)
@@ -1266,10 +1322,20 @@ def _is_zero(form: Any) -> bool:
         return False
 
 
+def _keeps_pattern(snes_type: str, vi_linear_solve: str) -> bool:
+    """Whether the linear systems of this SNES type keep one matrix pattern (so a
+    factorisation can be kept across Newton steps, ``factor_reuse_its``)."""
+    if snes_type == "vinewtonrsls":
+        return vi_linear_solve == "full_pattern"
+    return snes_type not in _VI_TYPES
+
+
 def _replace(o: SNESOptions, **kw: Any) -> SNESOptions:
     from dataclasses import replace
 
-    if kw.get("snes_type", o.snes_type) in _VI_TYPES:
+    if not _keeps_pattern(
+        kw.get("snes_type", o.snes_type), kw.get("vi_linear_solve", o.vi_linear_solve)
+    ):
         kw.setdefault("factor_reuse_its", 0)
     return replace(o, **kw)
 
@@ -1277,7 +1343,9 @@ def _replace(o: SNESOptions, **kw: Any) -> SNESOptions:
 def _with_session(o: SNESOptions) -> SNESOptions:
     """``o`` with the fields of the enclosing :func:`solver_session` blocks."""
     fields = {k: v for d in _SESSION_FIELDS for k, v in d.items()}
-    if fields.get("snes_type", o.snes_type) in _VI_TYPES:
+    if not _keeps_pattern(
+        fields.get("snes_type", o.snes_type), fields.get("vi_linear_solve", o.vi_linear_solve)
+    ):
         fields.pop("factor_reuse_its", None)
     return _replace(o, **fields) if fields else o
 
