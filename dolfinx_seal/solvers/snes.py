@@ -1185,8 +1185,6 @@ class _FullPatternLU:
         self.reuse_its = 0  # > 0: the factorisation is kept (see the class docstring)
         self.applies = 0  # preconditioner applications since the last set-up
         self.factorisations = 0  # numeric factorisations made (kept ones not counted)
-        #: whether the factorisation is of the Jacobian of the last set-up
-        self.fresh = False
 
     def _inactive(self) -> PETSc.IS:
         return self.owner._snes.getVIInactiveSet()
@@ -1205,15 +1203,13 @@ class _FullPatternLU:
             and 0 < applies <= self.reuse_its + 1
             and self.owner._snes.getKSP().getConvergedReason() >= 0
         ):
-            self.fresh = False
             return
-        self._factorise(pc)
+        self._factorise(pc, nz)
 
-    def _factorise(self, pc: PETSc.PC) -> None:
-        """Copy the owner's Jacobian into the work matrix, identity rows at the
-        step's active bounds, and factorise it."""
+    def _factorise(self, pc: PETSc.PC, nz: float) -> None:
+        """Copy the owner's Jacobian (``nz`` nonzeros) into the work matrix, identity
+        rows at the step's active bounds, and factorise it."""
         A = self.owner.A
-        nz = A.getInfo(PETSc.Mat.InfoType.GLOBAL_SUM)["nz_used"]
         if self.W is None:
             self.W = A.duplicate(copy=True)
             self.W.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
@@ -1245,7 +1241,6 @@ class _FullPatternLU:
         # work matrix has changed, and apply() passes on a failure found there
         self.ksp.setUp()
         self.factorisations += 1
-        self.fresh = True
         failed = self.ksp.getPC().getFailedReason()
         if failed:
             pc.setFailedReason(failed)
