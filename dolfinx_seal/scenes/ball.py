@@ -106,7 +106,8 @@ BALL_STALL_STEPS = 2
 #: machine idle): 112 -> 41 numeric factorisations, 112 -> 115 Newton steps, a
 #: continuation point 12.1 -> 9.6 s, the sweep 495 -> 403 s; mu, h_central, h_min
 #: within 1.7e-11 of a factorisation every step.  With 20: 20 factorisations and
-#: 8.9 s a point, but 122 Newton steps (the last point retried) and 468 s.
+#: 8.9 s a point, but 122 Newton steps (the last point in 3 continuation steps, 93 s)
+#: and 468 s (docs/performance.md).
 BALL_FACTOR_REUSE = 8
 
 
