@@ -458,17 +458,7 @@ class NonlinearSolver:
             and o.ksp_type == "preonly"
             and o.pc_type == "lu"
         )
-        if o.factor_reuse_its and full_pattern:
-            # GMRES on the reduced system, preconditioned by the full pattern's kept
-            # LU (_FullPatternLU decides when to factorise afresh: PETSc resets a
-            # reduced-space VI's preconditioner every step, so no SNES lag applies)
-            defaults.update({
-                "ksp_type": "gmres", "ksp_pc_side": "right", "ksp_rtol": o.linear_rtol,
-                "ksp_gmres_restart": 2 * o.factor_reuse_its + 10,
-                "ksp_max_it": 2 * o.factor_reuse_its + 10,
-                "snes_max_linear_solve_fail": o.max_it + 1,
-            })  # fmt: skip
-        elif o.factor_reuse_its:
+        if o.factor_reuse_its:  # GMRES, preconditioned by a kept factorisation
             defaults.update({
                 "ksp_type": "gmres", "ksp_pc_side": "right", "ksp_rtol": o.linear_rtol,
                 "ksp_gmres_restart": 2 * o.factor_reuse_its + 10,
@@ -476,10 +466,14 @@ class NonlinearSolver:
                 # a failed linear solve still gives a step (the line search judges it);
                 # the factorisation is rebuilt at the next Newton step
                 "snes_max_linear_solve_fail": o.max_it + 1,
-                # built once (-2: at the first Jacobian, then never), kept across steps and
-                # solves; _jacobian resets it after a slow linear solve
-                "snes_lag_preconditioner": -2, "snes_lag_preconditioner_persists": True,
             })  # fmt: skip
+            if not full_pattern:
+                # built once (-2: at the first Jacobian, then never), kept across steps
+                # and solves; _jacobian resets it after a slow linear solve.  (The full
+                # pattern's LU decides itself: PETSc resets a reduced-space VI's
+                # preconditioner every step, so no SNES lag applies there.)
+                defaults.update({"snes_lag_preconditioner": -2,
+                                 "snes_lag_preconditioner_persists": True})  # fmt: skip
         if full_pattern:  # the reduced system through the full pattern's LU
             defaults["pc_type"] = "python"  # its inner LU is given the factor package
             defaults.pop("pc_factor_mat_solver_type", None)
