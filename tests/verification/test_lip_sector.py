@@ -349,6 +349,44 @@ def test_the_gap_limit_closes_no_gap_by_more_than_half_or_its_floor(sector):
     assert lim.crossing == math.inf
 
 
+def test_the_tip_twists_by_half_the_largest_element_a_step(sector):
+    """The sector's Newton step limit (``sector_step_limits`` and the gap limit): a
+    twist of the whole sector about the shaft axis by 0.4 ``h_far``, over two band
+    elements (the asperity shear's motion, which the axisymmetric installation
+    lacks; a limit of half a band element on every component cut it to a fifth),
+    is taken whole; a twist of 0.8 ``h_far`` is cut to half the largest
+    element; a radial step of two band elements of the nodes off the contact
+    surface is cut to half a band element."""
+    p, lub, _, _ = sector
+    prob = lub.problem
+    comm = prob.mesh.comm
+    mp = p.mesh_params()
+    assert 0.4 * mp.h_far > 2.0 * mp.h_band
+    x = prob.solver.x.getArray(readonly=True).copy()
+    n_own = prob.W.dofmap.index_map.size_local
+    Vu = prob.W.sub(0)
+    X = Vu.collapse()[0].tabulate_dof_coordinates()  # node k: dof k of each component
+    phi = np.arctan2(X[:, 1], X[:, 0])
+    ux, uy = (np.asarray(Vu.sub(c).collapse()[1]) for c in range(2))
+    own = ux < n_own
+
+    def scale(dx):
+        return comm.allreduce(float(prob.solver.step_limiter(x, dx)), op=MPI.MIN)
+
+    def twist(size):  # PETSc steps x -> x - dx: every node moves by size e_phi
+        dx = np.zeros_like(x)
+        dx[ux[own]] = size * np.sin(phi[own])
+        dx[uy[own]] = -size * np.cos(phi[own])
+        return dx
+
+    assert scale(twist(0.4 * mp.h_far)) == 1.0
+    assert scale(twist(0.8 * mp.h_far)) == pytest.approx(0.5 / 0.8, rel=1e-6)
+    radial = np.zeros_like(x)
+    off = np.setdiff1d(ux[own], lub.gap_limiter.contact_dofs[0])
+    radial[off] = 2.0 * mp.h_band  # x is the radial direction of the sector about phi = 0
+    assert scale(radial) == pytest.approx(0.25, rel=1e-12)
+
+
 @pytest.mark.parametrize(
     ("values", "name"),
     [
