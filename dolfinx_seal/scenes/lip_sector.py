@@ -646,8 +646,9 @@ def build(params: LipStaticParameters) -> SectorLip:
 
 
 def sector_step_limits(mp: LipSectorParams) -> StepLimits:
-    """The sector's Newton step limits: the radial component by half a band element
-    (the motion the contact law drives, and what can invert the band's thin
+    """The sector's Newton step limits [m]: the radial component (``x``, radial in the
+    sector's middle plane, ``Shaft3D.normal_axis``) by half a band element (the
+    motion the contact law drives, and what can invert the band's thin
     elements), any component by half the largest element (``sector.h_far``).
 
     The asperity shear twists the lip tip along the circumference as a whole, a
