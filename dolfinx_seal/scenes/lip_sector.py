@@ -659,8 +659,8 @@ def sector_step_limits(mp: LipSectorParams) -> StepLimits:
     Newton steps, the residual falling by equal amounts (2.34e-5, 2.07e-5, ...,
     1.92e-6) until the step was whole; with half the largest element it took 4.
     The gaps keep their own limit (:class:`SurfaceGapLimiter`)."""
-    return StepLimits(max_step=max(0.5 * mp.h_far, 0.5 * mp.h_band),
-                      max_normal_step=0.5 * mp.h_band)  # fmt: skip
+    # h_far >= h_band (LipSectorParams checks it)
+    return StepLimits(max_step=0.5 * mp.h_far, max_normal_step=0.5 * mp.h_band)
 
 
 def _set_installed(prob: SolidContactProblem, revolved: RevolvedState) -> None:
