@@ -46,12 +46,12 @@ class Body:
             (no displacement unknowns; ``dirichlet`` is then unused).
         dirichlet: Displacement conditions.
         degree: Displacement degree (the mixed pressure is one lower).
-        quadrature_degree: Quadrature degree of the strain energy (default
-            ``2 * degree``).  UFL's estimate for the neo-Hookean Jacobian is 13
-            (the ``J^(-2/3)`` factors count as polynomials of high degree), which
-            made 3D assembly ~10x slower for no accuracy gain measurable against
-            Hertz; ``2 * degree`` integrates the linearised stiffness of affine
-            cells exactly.
+        quadrature_degree: Quadrature degree of the strain energy (default: see
+            :func:`energy_quadrature`, ``2 * degree - 1`` on tetrahedra and ``2 *
+            degree`` on triangles).  UFL's estimate for the neo-Hookean Jacobian
+            is 13 (the ``J^(-2/3)`` factors count as polynomials of high degree),
+            which made 3D assembly ~10x slower for no accuracy gain measurable
+            against Hertz.  A degree given here uses the cell's default rule.
         surface_quadrature_degree: Quadrature degree of the contact-surface
             integrals (asperity pressure, film), the same for the residual and its
             Jacobian (UFL estimates the two separately).  Default ``4 * degree + 2``
@@ -131,4 +131,31 @@ class PositionControl:
         check_finite("position0", self.position0)
 
 
-__all__ = ["Body", "Dirichlet", "ForceControl", "PositionControl"]
+def energy_quadrature(degree: int, cell: str, quadrature_degree: int | None = None) -> dict:
+    """Quadrature metadata (UFL ``dx`` metadata) of the strain energy of a body of
+    displacement degree ``degree`` on cells ``cell`` (``"triangle"``, ``"tetrahedron"``).
+
+    A given ``quadrature_degree`` is used with the cell's default rule.  The
+    default integrates the linearised stiffness of affine cells exactly (its
+    integrand has degree ``2 * degree - 2``, one more with the axisymmetric
+    weight ``r``), the condition for the optimal order of a degree-``degree``
+    element with quadrature (Ciarlet and Raviart):
+
+    * tetrahedra: degree ``2 * degree - 1`` on the Xiao-Gimbutas rule (6 points
+      for P2, all weights positive; basix's default degree-3 rule has 5 points
+      and a negative weight, a risk for an energy), against 14 points of the
+      degree-4 rule used before 7 December 2026.  The ball's 3D Jacobian takes
+      a third less time at one rank.  Over its 30-speed sweep, mu and h_central
+      moved by at most 5e-6 and h_min by at most 1e-3 (at 0.01 m/s, where it is
+      24 nm).  See docs/performance.md, "The strain energy's quadrature";
+    * other cells (triangles): degree ``2 * degree`` (6 points for P2 on
+      triangles, as many as a degree-3 rule, so nothing to gain).
+    """
+    if quadrature_degree is not None:
+        return {"quadrature_degree": quadrature_degree}
+    if cell == "tetrahedron":
+        return {"quadrature_degree": max(2 * degree - 1, 1), "quadrature_rule": "xiao_gimbutas"}
+    return {"quadrature_degree": 2 * degree}
+
+
+__all__ = ["Body", "Dirichlet", "ForceControl", "PositionControl", "energy_quadrature"]

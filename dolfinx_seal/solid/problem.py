@@ -39,7 +39,13 @@ from dolfinx_seal.compat import real_functionspace
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_positive, check_range
-from dolfinx_seal.solid.body import Body, Dirichlet, ForceControl, PositionControl
+from dolfinx_seal.solid.body import (
+    Body,
+    Dirichlet,
+    ForceControl,
+    PositionControl,
+    energy_quadrature,
+)
 from dolfinx_seal.solid.counter_surface import CounterSurface
 from dolfinx_seal.solid.materials import LinearElastic
 from dolfinx_seal.solid.step_limits import StepLimits, displacement_limiter, rigid_gap_limiter
@@ -228,8 +234,9 @@ class SolidContactProblem:
         self.v3 = kinematics.vector3(v) if self.bulk else None
         self.e_n = counter.normal(self.x)
         self.dx = ufl.Measure("dx", domain=mesh)
-        qd = 2 * degree if quadrature_degree is None else quadrature_degree
-        self.dx_energy = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": qd})
+        self.dx_energy = ufl.Measure(
+            "dx", domain=mesh, metadata=energy_quadrature(degree, cell.name, quadrature_degree)
+        )
         sqd = surface_quadrature_degree
         if sqd is None:
             sqd = 4 * degree + 2 if gdim == 2 else 2 * degree + 2
@@ -359,9 +366,10 @@ class SolidContactProblem:
         """``int d psi w dx``: the first variation of the strain energy (kinematic weight w)."""
         R = ufl.derivative(self.strain_energy() * self.weight * self.dx_energy, self.w, vw)
         if self.mixed:  # keep the (zero for nu = 0.5) diagonal of the mixed pressure in
-            # the sparsity: semismooth VI solvers scale and shift the diagonal
+            # the sparsity: semismooth VI solvers scale and shift the diagonal.  The
+            # energy's rule: one group of cell integrals, one rule (compat)
             q_mix = ufl.split(vw)[1]
-            R += dolfinx.fem.Constant(self.mesh, 0.0) * self.p_mix * q_mix * self.dx
+            R += dolfinx.fem.Constant(self.mesh, 0.0) * self.p_mix * q_mix * self.dx_energy
         return R
 
     def _asperity_residual(self) -> Any:
