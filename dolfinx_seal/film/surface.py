@@ -68,6 +68,7 @@ from mpi4py import MPI
 from ufl.algorithms import extract_coefficients
 
 from dolfinx_seal.compat import interpolation_points
+from dolfinx_seal.compiled import CompiledCache
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.params import check_bool, check_choice, check_positive, check_range
 from dolfinx_seal.surface import tractions
@@ -318,6 +319,7 @@ class SurfaceFilm:
         self.has_transport = self.has_couette and ctx.transport
         S = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
         self.S = S
+        self.compiled = CompiledCache()  # the outputs' interpolations (film_values)
         # off the lubricated surface and on its edges the pressure is prescribed
         fixed, edge = self._fixed_dofs(ctx)
         pinned = np.union1d(fixed, edge).astype(np.int32)
@@ -830,17 +832,14 @@ class SurfaceFilm:
     # ---------------------------------------------------------------- outputs
     def owned_gaps(self) -> np.ndarray:
         """Gap [m] at the owned dofs of the lubricated surface (no communication)."""
-        if getattr(self, "_gap_fn", None) is None:
+        if getattr(self, "_gap_dofs", None) is None:
             ctx, S = self.ctx, self.S
             fdim = ctx.mesh.topology.dim - 1
             dofs = dolfinx.fem.locate_dofs_topological(
                 S, fdim, ctx.facet_tags.find(ctx.contact_tag)
             )
             self._gap_dofs = dofs[dofs < S.dofmap.index_map.size_local]
-            self._gap_fn = dolfinx.fem.Function(S)
-            self._gap_expr = dolfinx.fem.Expression(ctx.gap, interpolation_points(S.element))
-        self._gap_fn.interpolate(self._gap_expr)
-        return self._gap_fn.x.array[self._gap_dofs].copy()
+        return self.compiled.interpolate(self.ctx.gap, self.S).x.array[self._gap_dofs].copy()
 
     def film_values(self) -> dict[str, np.ndarray]:
         """Nodal values on the lubricated surface, gathered and sorted by reference x.
@@ -852,13 +851,10 @@ class SurfaceFilm:
         fdim = ctx.mesh.topology.dim - 1
         dofs = dolfinx.fem.locate_dofs_topological(S, fdim, ctx.facet_tags.find(ctx.contact_tag))
         dofs = dofs[dofs < S.dofmap.index_map.size_local]
-        pts = interpolation_points(S.element)
         vals = {}
         gdim = ctx.mesh.geometry.dim
         for name, expr in [("gap", ctx.gap), *((f"x{i}", ctx.x[i]) for i in range(gdim))]:
-            f = dolfinx.fem.Function(S)
-            f.interpolate(dolfinx.fem.Expression(expr, pts))
-            vals[name] = f.x.array[dofs]
+            vals[name] = self.compiled.interpolate(expr, S).x.array[dofs]
         X = S.tabulate_dof_coordinates()[dofs][:, :gdim]
         out = {
             "X": X,

@@ -36,6 +36,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.compat import real_functionspace
+from dolfinx_seal.compiled import CompiledCache
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.output import progress_step
 from dolfinx_seal.params import check_int_range, check_positive, check_range
@@ -234,6 +235,10 @@ class SolidContactProblem:
         self.v3 = kinematics.vector3(v) if self.bulk else None
         self.e_n = counter.normal(self.x)
         self.dx = ufl.Measure("dx", domain=mesh)
+        #: the outputs' compiled forms and interpolations (:meth:`integrate`,
+        #: :meth:`surface_values`), kept from one point to the next
+        self.compiled = CompiledCache()
+        self._scalar_spaces: dict[int, Any] = {}
         self.dx_energy = ufl.Measure(
             "dx", domain=mesh, metadata=energy_quadrature(degree, cell.name, quadrature_degree)
         )
@@ -665,6 +670,12 @@ class SolidContactProblem:
         return ProjectedMPCAssembly(self._body_constraint)
 
     # ---------------------------------------------------------------- results
+    def _scalar_space(self, degree: int) -> Any:
+        """The scalar Lagrange space of ``degree`` on the mesh (made once)."""
+        if degree not in self._scalar_spaces:
+            self._scalar_spaces[degree] = dolfinx.fem.functionspace(self.mesh, ("Lagrange", degree))
+        return self._scalar_spaces[degree]
+
     def contact_force(self) -> float:
         """Total contact force on the body along the counter normal [N or N/m]."""
         return self.mesh.comm.allreduce(
@@ -672,9 +683,9 @@ class SolidContactProblem:
         )
 
     def integrate(self, expr: Any, measure: Any) -> float:
-        """Global integral of a UFL expression."""
+        """Global integral of a UFL expression (compiled once, :attr:`compiled`)."""
         return self.mesh.comm.allreduce(
-            dolfinx.fem.assemble_scalar(dolfinx.fem.form(expr * measure)), op=MPI.SUM
+            dolfinx.fem.assemble_scalar(self.compiled.form(expr, measure)), op=MPI.SUM
         )
 
     def counter_position(self) -> float:
@@ -738,9 +749,8 @@ class SolidContactProblem:
                 deg = self.W.sub(0).ufl_element().degree
             else:
                 deg = self.W.ufl_element().degree
-            S = dolfinx.fem.functionspace(self.mesh, ("Lagrange", deg))
-            f = dolfinx.fem.Function(S)
-            f.interpolate(dolfinx.fem.Expression(expr, _interp_points(S)))
+            S = self._scalar_space(deg)
+            f = self.compiled.interpolate(expr, S)
         fdim = self.mesh.topology.dim - 1
         dofs = dolfinx.fem.locate_dofs_topological(S, fdim, self.facet_tags.find(tag))
         nown = S.dofmap.index_map.size_local
@@ -761,11 +771,11 @@ def _lumped_projection(prob: SolidContactProblem, expr: Any, tag: int) -> dolfin
     average that converges with the mesh and does not oscillate between vertex
     and mid-edge nodes as nodal samples of a stiff contact law do.
     """
-    S = dolfinx.fem.functionspace(prob.mesh, ("Lagrange", 1))
+    S = prob._scalar_space(1)
     q = ufl.TestFunction(S)
     ds = prob.ds(tag, metadata=prob.ds_c.metadata())
-    b = dolfinx.fem.assemble_vector(dolfinx.fem.form(expr * q * ds))
-    m = dolfinx.fem.assemble_vector(dolfinx.fem.form(q * ds))
+    b = dolfinx.fem.assemble_vector(prob.compiled.form(expr * q, ds))
+    m = dolfinx.fem.assemble_vector(prob.compiled.form(q, ds))
     b.scatter_reverse(dolfinx.la.InsertMode.add)
     m.scatter_reverse(dolfinx.la.InsertMode.add)
     f = dolfinx.fem.Function(S)
@@ -773,12 +783,6 @@ def _lumped_projection(prob: SolidContactProblem, expr: Any, tag: int) -> dolfin
     f.x.array[on] = b.array[on] / m.array[on]
     f.x.scatter_forward()
     return f
-
-
-def _interp_points(V: Any) -> Any:
-    from dolfinx_seal.compat import interpolation_points
-
-    return interpolation_points(V.element)
 
 
 __all__ = ["SolidContactProblem", "StepRecord", "SteppingOptions"]

@@ -21,7 +21,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "dolfinx_seal"
 LAYERS: dict[str, int] = {
     "errors": 0,
     "params": 1, "mpi": 1, "compat": 1, "__init__": 1,
-    "output": 2, "roughness": 2, "solvers": 2, "meshing": 2,
+    "output": 2, "roughness": 2, "solvers": 2, "meshing": 2, "compiled": 2,
     "contact": 3, "friction": 3, "verification": 3, "meshcmd": 3, "checkpoint": 3,
     "surface": 4,
     "solid": 5, "film": 5,
