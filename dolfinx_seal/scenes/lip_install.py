@@ -472,7 +472,8 @@ def moment_width(prob: SolidContactProblem, fn: Any = None) -> tuple[float, floa
     if m0 <= 0.0:
         return 0.0, math.nan
     m1 = prob.integrate(fn * z, prob.ds_c) / m0
-    var = prob.integrate(fn * (z - m1) ** 2, prob.ds_c) / m0  # centred: no cancellation
+    centre = prob.compiled.constant(prob.mesh, "band centre", m1)  # not a literal: one kernel
+    var = prob.integrate(fn * (z - centre) ** 2, prob.ds_c) / m0  # centred: no cancellation
     return math.sqrt(12.0 * var), m1
 
 

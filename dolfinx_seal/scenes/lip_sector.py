@@ -1075,7 +1075,8 @@ def contact_width(lub: SectorLip) -> tuple[float, float]:
     z = prob.x[2]
     m0 = prob.integrate(fn, prob.ds_c)
     m1 = prob.integrate(fn * z, prob.ds_c) / m0
-    var = prob.integrate(fn * (z - m1) ** 2, prob.ds_c) / m0
+    centre = prob.compiled.constant(prob.mesh, "band centre", m1)  # not a literal: one kernel
+    var = prob.integrate(fn * (z - centre) ** 2, prob.ds_c) / m0
     return math.sqrt(12.0 * var), m1
 
 

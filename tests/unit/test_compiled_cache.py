@@ -61,3 +61,34 @@ def test_a_kept_interpolation_is_refreshed_at_each_call():
     k = cache.interpolate(g + x[0], V)
     assert k is not h
     assert np.allclose(k.x.array[:n], 1.0 + V.tabulate_dof_coordinates()[:n, 1] + X[:n])
+
+
+def test_a_changing_number_enters_as_a_kept_constant():
+    """The centred second moment of x about its mean (as the lip's contact width
+    takes it): exact for two means, with one kept form."""
+    mesh, _V, _f, _g = _setup()
+    cache = CompiledCache()
+    dx = ufl.Measure("dx", domain=mesh)
+    x = ufl.SpatialCoordinate(mesh)
+    kept = set()
+    for mean in (0.5, 0.25):
+        c = cache.constant(mesh, "centre", mean)
+        a = cache.form((x[0] - c) ** 2, dx)
+        kept.add(id(a))
+        assert np.isclose(_integral(mesh, a), 1.0 / 3.0 - mean + mean**2)  # int (x - m)^2
+    assert len(kept) == 1
+
+
+def test_the_least_recently_used_entry_goes_first(monkeypatch):
+    from dolfinx_seal import compiled
+
+    monkeypatch.setattr(compiled, "MAX_ENTRIES", 2)
+    mesh, _V, f, g = _setup()
+    cache = CompiledCache()
+    dx = ufl.Measure("dx", domain=mesh)
+    a = cache.form(f, dx)
+    b = cache.form(g, dx)
+    assert cache.form(f, dx) is a  # f used last: g is the oldest
+    cache.form(f * g, dx)
+    assert cache.form(f, dx) is a
+    assert cache.form(g, dx) is not b  # g was dropped and made again
