@@ -830,16 +830,21 @@ class SurfaceFilm:
         return -p * ufl.dot(nanson, self.ctx.e_n) * self.ctx.weight
 
     # ---------------------------------------------------------------- outputs
-    def owned_gaps(self) -> np.ndarray:
-        """Gap [m] at the owned dofs of the lubricated surface (no communication)."""
-        if getattr(self, "_gap_dofs", None) is None:
+    def _owned_surface_dofs(self) -> np.ndarray:
+        """The owned dofs of :attr:`S` on the lubricated surface (found once)."""
+        if getattr(self, "_surface_dofs", None) is None:
             ctx, S = self.ctx, self.S
             fdim = ctx.mesh.topology.dim - 1
             dofs = dolfinx.fem.locate_dofs_topological(
                 S, fdim, ctx.facet_tags.find(ctx.contact_tag)
             )
-            self._gap_dofs = dofs[dofs < S.dofmap.index_map.size_local]
-        return self.compiled.interpolate(self.ctx.gap, self.S).x.array[self._gap_dofs].copy()
+            self._surface_dofs = dofs[dofs < S.dofmap.index_map.size_local]
+        return self._surface_dofs
+
+    def owned_gaps(self) -> np.ndarray:
+        """Gap [m] at the owned dofs of the lubricated surface (no communication)."""
+        dofs = self._owned_surface_dofs()
+        return self.compiled.interpolate(self.ctx.gap, self.S).x.array[dofs].copy()
 
     def film_values(self) -> dict[str, np.ndarray]:
         """Nodal values on the lubricated surface, gathered and sorted by reference x.
@@ -848,9 +853,7 @@ class SurfaceFilm:
         ``theta``, ``gap`` [m]; only the dofs of the lubricated surface.
         """
         ctx, S = self.ctx, self.S
-        fdim = ctx.mesh.topology.dim - 1
-        dofs = dolfinx.fem.locate_dofs_topological(S, fdim, ctx.facet_tags.find(ctx.contact_tag))
-        dofs = dofs[dofs < S.dofmap.index_map.size_local]
+        dofs = self._owned_surface_dofs()
         vals = {}
         gdim = ctx.mesh.geometry.dim
         for name, expr in [("gap", ctx.gap), *((f"x{i}", ctx.x[i]) for i in range(gdim))]:
