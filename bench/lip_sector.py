@@ -119,7 +119,7 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
     rows: list[dict[str, Any]] = []
     t_last = [time.perf_counter()]
 
-    def on_point(v: float, r: dict[str, Any]) -> None:
+    def on_point(v: float, r: dict[str, Any]) -> bool:
         now = time.perf_counter()
         row = {"speed": v, "feedback": p.feedback,
                "dimensionless_speed": r.get("dimensionless_speed"),
@@ -148,6 +148,7 @@ def dynamic(values: dict[str, Any], speeds: list[float], out: Path) -> list[dict
         writer.append(row)
         print0(f"  speed {v:.3g} m/s: {row['newton_iterations']} Newton, "
                f"{row['point_time_s']:.1f} s, torque {row['friction_torque']:.4g} N m")  # fmt: skip
+        return True  # every point's maps
 
     lip_sector.sweep(p, out / "lip_sector_dynamic", "film.speed", speeds, on_point)
     return rows

@@ -16,6 +16,8 @@ one row of ``<out>/perf.csv``:
   Krylov iterations per linear solve;
 * the peak resident memory of the ranks (summed, and the largest), the whole
   process: mesh, forms, the factorisations;
+* ``--point-files K`` as the CLI's sweep: the film maps (about 1 s each on rank 0)
+  of every K-th speed only;
 * with ``--reference`` (a ``sweep.csv`` of the same sweep, e.g. an earlier
   solver's), the largest relative difference of mu, h_central and h_min at the
   shared speeds.
@@ -126,6 +128,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="parameter overrides (e.g. stepping.tangent=true)")  # fmt: skip
     add_solver_arguments(parser)
+    parser.add_argument("--point-files", type=int, default=1, metavar="K",
+                        help="film maps of the first speed, every K-th after it and the "
+                        "last (the CLI's sweep --point-files; 0: none, 1: every speed)")  # fmt: skip
     parser.add_argument("--label", default="", help="name of the row (default: the layout)")
     parser.add_argument("--reference", help="sweep.csv to compare mu, h_central, h_min with")
     parser.add_argument("--out", default="bench/results/perf")
@@ -161,9 +166,11 @@ def main(argv: list[str] | None = None) -> None:
         if dry:  # the dry ball at its load (no film, no speed)
             res = run_scene("ball", p, folder, force=True)
         elif args.chains == 1:
-            sweep_scene("ball", p, folder, "film.speed", speeds, force=True)
+            sweep_scene("ball", p, folder, "film.speed", speeds, force=True,
+                        point_files=args.point_files)  # fmt: skip
         else:
-            sweep_chains("ball", p, folder, "film.speed", speeds, args.chains, force=True)
+            sweep_chains("ball", p, folder, "film.speed", speeds, args.chains, force=True,
+                         point_files=args.point_files)  # fmt: skip
     wall = time.perf_counter() - t0
     after = _events()
     if dry:
@@ -182,6 +189,7 @@ def main(argv: list[str] | None = None) -> None:
         "ranks": ranks,
         "chains": args.chains,
         "options": " ".join([*args.set, *args.solver, *args.petsc]) or "(defaults)",
+        "point_files": args.point_files,
         "points": len(rows),
         "points_asked": len(speeds),
         "dofs": int(rows[0]["dofs"]) if rows else 0,

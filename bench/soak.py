@@ -152,7 +152,7 @@ class Recorder:
         self.t0 = time.perf_counter()
         self.kept = 0
 
-    def point(self, speed: float, r: dict[str, Any]) -> None:
+    def point(self, speed: float, r: dict[str, Any]) -> bool:
         if self.keeps_results:  # the sweep keeps its result rows (by design)
             self.kept += deep_size(r)
         gc.collect()
@@ -185,6 +185,7 @@ class Recorder:
             f"Python objects {row['python_objects']:8d}  t = {row['time_s']:7.1f} s",
             flush=True,
         )
+        return True  # the sweep writes every point's map, as a user's does by default
 
 
 def plot(rows: list[dict[str, Any]], path: Path, warmup: int, title: str) -> dict[str, float]:

@@ -111,12 +111,13 @@ def dynamic(out: Path, overrides: list[str], speeds: list[float]) -> list[dict[s
             "newton_iterations")  # fmt: skip
     done: list[float] = []
 
-    def on_point(v: float, r: dict[str, Any]) -> None:
+    def on_point(v: float, r: dict[str, Any]) -> bool:
         writer.append({k: r.get(k, np.nan) for k in keys})
         done.append(v)
         print0(f"  [{len(done)}/{len(speeds)}] {v:.3g} m/s: cavitated {r.get('cavitation_fraction', 0):.3f} "
                f"of the band, torque {r['friction_torque']:.4g} N m, net flow "
                f"{r['leakage_rate']:.3g} m^3/s, {r['newton_iterations']} Newton steps")  # fmt: skip
+        return True  # every speed's maps (speed_<U>/maps.png)
 
     return lip_sector.sweep(p, out / "dynamic", "film.speed", speeds, on_point)
 

@@ -11,7 +11,8 @@ Sub-commands:
   prints the results-contract scalars with units, the full record is ``results.json``.
 * ``sweep SCENE``        -- a sweep of one parameter (``--over NAME --values SPEC``);
   one line per finished point.  ``--chains K`` (under ``mpirun -n N``, K <= N) runs K
-  independent chains of the values at once, each on N/K ranks.
+  independent chains of the values at once, each on N/K ranks.  ``--point-files K``
+  writes the per-point folders (film maps, profiles) of every K-th point only.
 * ``study SCENE``        -- error against run time over resolution levels.
 * ``study stability SCENE`` -- the scene's stiff and extreme cases from its table
   (``studies/stability/SCENE.toml``): ``stability.csv``, ``.md``, ``.png``.
@@ -114,7 +115,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if args.chains != 1:
         rows = _scenes.sweep_chains(
             args.scene, p, out, args.over, values, args.chains, force=args.force,
-            resume=args.resume, unit=unit,
+            resume=args.resume, unit=unit, point_files=args.point_files,
         )  # fmt: skip
         return _sweep_status(rows, values, out, args.over)
     progress = Progress(len(values), args.over, unit, verbose=args.verbose)
@@ -126,7 +127,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     with progress, on_sweep_row(Path(out) / "sweep.csv", echo):
         rows = _scenes.sweep_scene(
             args.scene, p, out, args.over, values, force=args.force, progress=progress,
-            resume=args.resume,
+            resume=args.resume, point_files=args.point_files,
         )  # fmt: skip
     return _sweep_status(rows, values, out, args.over)
 
@@ -300,6 +301,13 @@ def build_parser() -> argparse.ArgumentParser:
             help="run K chains of the values at once (every K-th value of the walk order, "
             "each chain with its own start, on its share of the mpirun ranks; results "
             "per chain in OUT/chain-k, merged in OUT)",
+        )  # fmt: skip
+        sp.add_argument(
+            "--point-files", type=int, default=1, metavar="K",
+            help="write the own files of the first point, of every K-th after it and of "
+            "the last value (OUT/speed_<U>/ or oil_pressure_<p>/: film maps, profiles; "
+            "about 1 s a point for a 3D film map); 0: none; default 1: every point. "
+            "sweep.csv, sweep.png and results.json are always written",
         )  # fmt: skip
         sp.set_defaults(func=_cmd_sweep)
 

@@ -19,6 +19,7 @@ import json
 import pytest
 
 from dolfinx_seal import scenes
+from dolfinx_seal.cli import main
 from dolfinx_seal.errors import ParameterError
 from dolfinx_seal.mpi import COMM_WORLD, using_comm, world
 from dolfinx_seal.output import read_csv
@@ -91,3 +92,47 @@ def test_chains_give_the_one_chain_sweep(chains, reference, mpi_tmp_path):
         assert [float(r["film.speed"]) for r in own] == pytest.approx(c["values"], rel=1e-15)
         assert {int(r["ranks"]) for r in own} == {c["ranks"]}  # solved on the chain's ranks only
     assert (out / "sweep.png").is_file()
+
+
+def test_point_files_picks_the_points_whose_folders_are_written():
+    """``--point-files K``: the first point, every K-th after it and the last value."""
+    chosen = [n for n in range(1, 8) if scenes.writes_point_files(n, 7, 3)]
+    assert chosen == [1, 4, 7]
+    assert [n for n in range(1, 9) if scenes.writes_point_files(n, 8, 3)] == [1, 4, 7, 8]
+    assert all(scenes.writes_point_files(n, 5, 1) for n in range(1, 6))
+    assert not any(scenes.writes_point_files(n, 5, 0) for n in range(1, 6))
+
+
+@pytest.mark.parametrize("every, cli", [(3, False), (0, True)])
+def test_point_files_leave_the_rows_and_write_the_chosen_folders(every, cli, reference,
+                                                                 mpi_tmp_path):  # fmt: skip
+    """The rigid cylinder's sweep with ``point_files`` (through the CLI's
+    ``--point-files`` for 0): the reference sweep's rows (it wrote every point's
+    files), and profile folders only at the chosen speeds (first, every K-th,
+    last; none for 0)."""
+    out = mpi_tmp_path / f"files{every}"
+    if cli:
+        args = ["sweep", "cylinder", *(a for kv in RIGID for a in ("--set", kv)), "--over",
+                "film.speed", "--values", ",".join(map(str, SPEEDS)), "--out", str(out)]  # fmt: skip
+        assert main([*args, "--point-files", str(every)]) == 0
+    else:
+        p = scenes.make_parameters("cylinder", overrides=RIGID)
+        scenes.sweep_scene("cylinder", p, out, "film.speed", SPEEDS, point_files=every)
+    rows = read_csv(out / "sweep.csv")
+    assert [float(r["film.speed"]) for r in rows] == [float(r["film.speed"]) for r in reference]
+    for r, q in zip(rows, reference, strict=True):
+        for key in KEYS:  # the files take nothing from the solve
+            assert float(r[key]) == pytest.approx(float(q[key]), rel=1e-12, abs=0.0), key
+    written = sorted(float(d.name.removeprefix("speed_")) for d in out.glob("speed_*"))
+    expected = [] if every == 0 else [SPEEDS[0], SPEEDS[3], SPEEDS[4]]
+    assert written == pytest.approx(expected, rel=1e-3)
+    for d in out.glob("speed_*"):
+        assert (d / "film.png").stat().st_size > 1000 and (d / "film.csv").is_file()
+    assert (out / "sweep.png").is_file()
+
+
+def test_negative_point_files_are_refused(mpi_tmp_path):
+    p = scenes.make_parameters("cylinder", overrides=RIGID)
+    with pytest.raises(ParameterError, match=r"--point-files = -1 .*\[0, inf\)"):
+        scenes.sweep_scene("cylinder", p, mpi_tmp_path / "bad", "film.speed", SPEEDS,
+                           point_files=-1)  # fmt: skip

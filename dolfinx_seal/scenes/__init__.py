@@ -50,8 +50,10 @@ REGISTRY: dict[str, str] = {
     "lip-dynamic": "dolfinx_seal.scenes.lip_dynamic",
 }
 
-#: A point callback of a sweep: receives the sweep value and the results of the point.
-PointCallback = Callable[[float, Mapping[str, Any]], None]
+#: A point callback of a sweep: receives the sweep value and the results of the point,
+#: and returns whether the scene writes that point's own files (its ``speed_<U>/`` or
+#: ``oil_pressure_<p>/`` folder: film maps, profiles, their CSV; ``--point-files``).
+PointCallback = Callable[[float, Mapping[str, Any]], bool]
 
 
 @dataclass(frozen=True)
@@ -67,7 +69,8 @@ class Scene:
             (SI; keys of the results contract plus scene-specific ones).
         sweep: Optional ``sweep(params, out_dir, name, values, on_point) -> rows``
             with continuation; it calls ``on_point(value, results)`` as each point
-            finishes and raises :class:`SolverError` (with ``partial`` = finished
+            finishes, writes that point's own files when the call returns true
+            (:func:`writes_point_files`), and raises :class:`SolverError` (with ``partial`` = finished
             rows) if it cannot go on.  Without it, points are run independently.
         plot_sweep: Optional ``plot_sweep(rows, out_dir, name)`` drawing the sweep PNG.
         resumable: ``sweep`` takes ``resume=`` (a :class:`Resume`, or None) and
@@ -187,6 +190,7 @@ def sweep_scene(
     force: bool = False,
     progress: Progress | None = None,
     resume: bool = False,
+    point_files: int = 1,
 ) -> list[dict[str, Any]]:
     """Sweep scene ``name`` over parameter ``over`` (dotted path allowed).
 
@@ -211,7 +215,11 @@ def sweep_scene(
     new ones.  A resumable scene (:attr:`Scene.resumable`) goes on from the
     checkpoint of its last converged point; the others start each remaining
     point afresh.
+
+    ``point_files`` (``--point-files K``): which finished points get their own
+    files from a scene that writes them (:func:`writes_point_files`).
     """
+    point_files = _params.check_int_range("--point-files", point_files, 0)
     scene = get(name)
     out = Path(out_dir)
     set_parameter(parameters, over, _params.get_dotted(parameters, over))  # unknown names stop here
@@ -239,12 +247,13 @@ def sweep_scene(
             progress.skip(len(values) - len(todo))
     t0 = time.perf_counter()
 
-    def on_point(value: float, results: Mapping[str, Any]) -> None:
+    def on_point(value: float, results: Mapping[str, Any]) -> bool:
         row = {over: value, **_scalars(results)}
         rows.append(row)
         writer.append(row)
         if progress is not None:
             progress.point(value, row)
+        return writes_point_files(len(rows), len(values), point_files)
 
     if scene.sweep is not None and (todo or scene.resumable):
         try:
@@ -284,6 +293,23 @@ def sweep_scene(
     return rows
 
 
+def writes_point_files(finished: int, values: int, every: int) -> bool:
+    """Whether a sweep's ``finished``-th point (from 1, resumed rows counted) of
+    ``values`` gets its own files, with ``--point-files`` = ``every``.
+
+    ``every`` = 1 (default): every point; ``K`` > 1: the first point, every K-th
+    after it (1, 1 + K, 1 + 2K, ...) and the last value's (the ``values``-th
+    finished point: every point before it finished); 0: none.  The sweep's own
+    files (``sweep.csv``, ``sweep.png``, ``results.json``) are always written.  A
+    film map costs about 1 s on rank 0 while the other ranks wait
+    (docs/performance.md), which a Stribeck curve of many speeds need not pay at
+    every speed.
+    """
+    if every == 0:
+        return False
+    return (finished - 1) % every == 0 or finished == values
+
+
 def chain_values(values: Sequence[float], chains: int, order: str = "given") -> list[list[float]]:
     """The sweep values of each of ``chains`` chains: every ``chains``-th value of the
     walk order (``order``: ``up``, ``down`` or ``given``), so that every chain starts
@@ -313,6 +339,7 @@ def sweep_chains(
     force: bool = False,
     resume: bool = False,
     unit: str = "",
+    point_files: int = 1,
 ) -> list[dict[str, Any]]:
     """:func:`sweep_scene` as ``chains`` independent chains run at once, each on its
     own share of the ranks of :func:`~dolfinx_seal.mpi.world` (``mpirun -n N`` with
@@ -327,6 +354,7 @@ def sweep_chains(
     the scene's sweep plot and ``results.json`` (``failed_points``, and per
     chain its ranks, values, points finished and wall time).  Returns the merged
     rows (values as written in the chains' CSV files) on every rank.
+    ``point_files``: as in :func:`sweep_scene`, counted in each chain.
     """
     comm = world()
     chains = _params.check_int_range("--chains", chains, 1)
@@ -359,7 +387,7 @@ def sweep_chains(
                             prefix=f"chain {k}/{chains}: ")  # fmt: skip
         with progress:
             sweep_scene(name, parameters, folder, over, shares[color], force=force,
-                        progress=progress, resume=go_on)  # fmt: skip
+                        progress=progress, resume=go_on, point_files=point_files)  # fmt: skip
     wall = time.perf_counter() - t0
     leader = sub.rank == 0
     info = comm.gather(

@@ -646,8 +646,8 @@ def sweep(
                 r = results(lub, pv)
                 r.update(info, wall_time_s=time.perf_counter() - t0, converged=True)
                 rows.append(r)
-                on_point(v, r)
-                write_film(out / f"oil_pressure_{v:.3e}", lub, pv)
+                if on_point(v, r):
+                    write_film(out / f"oil_pressure_{v:.3e}", lub, pv)
         finally:
             lub.destroy()
         return rows
@@ -732,8 +732,8 @@ def _stroke_chain(
                   continuation_steps=r.get("continuation_steps", 1),
                   wall_time_s=r.get("wall_time_s", 0.0), converged=True)  # fmt: skip
         rows.append(rr)
-        on_point(v, rr)
-        write_film(out / f"speed_{v:+.3e}", lub, pv)
+        if on_point(v, rr):
+            write_film(out / f"speed_{v:+.3e}", lub, pv)
 
     r0 = {"newton_iterations": pr["newton_iterations"] + sp["newton_iterations"],
           "wall_time_s": time.perf_counter() - t0}  # fmt: skip

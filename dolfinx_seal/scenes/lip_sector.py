@@ -1673,8 +1673,8 @@ def sweep(
             r.update(info, **(dry if not rows else {}), converged=True,
                      wall_time_s=time.perf_counter() - (t0 if not rows else t1))  # fmt: skip
             rows.append(r)
-            on_point(v, r)
-            write_maps(out / f"oil_pressure_{v:.3e}", lub, pv, fields=False)
+            if on_point(v, r):
+                write_maps(out / f"oil_pressure_{v:.3e}", lub, pv, fields=False)
     finally:
         lub.destroy()
     return rows
@@ -1749,8 +1749,8 @@ def _speed_sweep(
             r.update(info, converged=True,
                      wall_time_s=time.perf_counter() - (t0 if info is first else t1))  # fmt: skip
             rows.append(r)
-            on_point(v, r)
-            write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
+            if on_point(v, r):
+                write_maps(out / f"speed_{v:.3e}", lub, pv, fields=False)
     finally:
         lub.destroy()
     write_sweep_failures(out, failed)

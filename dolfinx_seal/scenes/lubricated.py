@@ -462,7 +462,8 @@ class LubricatedScene:
         Start at the first speed of the list ordered by ``p.sweep_order``, walk
         the others with :func:`~dolfinx_seal.coupled.continuation.speed_sweep`
         (options ``p.stepping``), hand each converged point to ``on_point`` at once
-        (``sweep.csv``) and write its profile into ``speed_<U>/``; failed targets
+        (``sweep.csv``) and write its profile into ``speed_<U>/`` when that returns
+        true (``--point-files``); failed targets
         go to ``sweep_failures.csv`` and the walk goes on from the last good point.
         Returns the rows of the converged points.  A failure the continuation
         cannot absorb (the start) raises :class:`SolverError` with ``partial`` = the
@@ -549,9 +550,9 @@ class _Walk:
         checkpoint.save(self.out, self.unknowns, meta)
         self.rows.append(r)
         self.done.append(v)
-        self.on_point(v, r)
-        self.scene.write_point(self.out / f"speed_{v:.3e}", self.prob,
-                               set_parameter(self.p, "film.speed", v))  # fmt: skip
+        if self.on_point(v, r):
+            self.scene.write_point(self.out / f"speed_{v:.3e}", self.prob,
+                                   set_parameter(self.p, "film.speed", v))  # fmt: skip
 
     def failure(self, rec: Any) -> None:
         self.failed.append({"speed": rec.speed, "error": self._why(rec)})
