@@ -138,9 +138,27 @@ def real_functionspace(mesh: Any) -> Any:
 
 
 # ---------------------------------------------------------------- gmsh -> mesh
-def model_to_mesh(model: Any, comm: Any, rank: int = 0, gdim: int = 3) -> tuple[Any, Any, Any]:
-    """``(mesh, cell_tags, facet_tags)`` from a Gmsh model living on ``rank``."""
-    out = gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
+def model_to_mesh(
+    model: Any, comm: Any, rank: int = 0, gdim: int = 3, partition: Any = None
+) -> tuple[Any, Any, Any]:
+    """``(mesh, cell_tags, facet_tags)`` from a Gmsh model living on ``rank``.
+
+    ``partition``: None (DOLFINx's graph partitioner), or ``partition(vertices,
+    nparts) -> destinations``: ``vertices`` the cells' vertex node indices into
+    Gmsh's node list ordered by tag, shape ``(cells, vertices per cell)``, as the
+    rank holding them sees them (``rank`` holds them all); one destination rank
+    per cell (no ghost layer: DOLFINx adds the shared facets' cells)."""
+    partitioner = None
+    if partition is not None and comm.size > 1:
+
+        def partitioner(_comm: Any, nparts: int, cell_types: Any, cells: Any) -> Any:
+            # 0.9: (comm, nparts, [cell type], [flat vertex indices]), one cell type
+            nv = dolfinx.cpp.mesh.cell_num_vertices(cell_types[0])
+            vertices = np.asarray(cells[0], dtype=np.int64).reshape(-1, nv)
+            dest = np.asarray(partition(vertices, nparts), dtype=np.int32)
+            return dolfinx.graph.adjacencylist(dest)
+
+    out = gmshio.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=partitioner)
     if isinstance(out, tuple):  # 0.9
         return out[0], out[1], out[2]
     return out.mesh, out.cell_tags, out.facet_tags  # 0.10: MeshData

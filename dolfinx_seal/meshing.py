@@ -85,6 +85,71 @@ def _finish(mesh: Any, ct: Any, ft: Any, info: dict[str, Any]) -> TaggedMesh:
     return TaggedMesh(mesh, ct, ft, info)
 
 
+# --------------------------------------------------------------- partitioning
+def weighted_bisection(points: np.ndarray, weights: np.ndarray, nparts: int) -> np.ndarray:
+    """Destination part (0 to ``nparts - 1``) of each point, by recursive coordinate
+    bisection with weights: each set is cut across its longest extent, at the
+    weighted quantile that gives each side its share of the parts.  Deterministic
+    (a stable sort), so the same mesh is distributed the same way in every run.
+
+    Args:
+        points: Coordinates, shape ``(n, d)`` [m].
+        weights: Non-negative cost of each point [-].
+        nparts: Number of parts.
+    """
+    dest = np.zeros(len(points), dtype=np.int32)
+
+    def cut(idx: np.ndarray, first: int, n: int) -> None:
+        if n == 1 or idx.size == 0:
+            dest[idx] = first
+            return
+        axis = int(np.argmax(np.ptp(points[idx], axis=0)))
+        order = idx[np.argsort(points[idx, axis], kind="stable")]
+        total = np.cumsum(weights[order])
+        left = n // 2
+        k = int(np.searchsorted(total, total[-1] * left / n))
+        cut(order[:k], first, left)
+        cut(order[k:], first + left, n - left)
+
+    cut(np.arange(len(points)), 0, nparts)
+    return dest
+
+
+def surface_weighted_partition(model: Any, tdim: int, balance: dict[str, float]) -> Any:
+    """A partition for :func:`~dolfinx_seal.compat.model_to_mesh` that balances the
+    cells' cost, a cell touching facet group ``g`` (``tdim`` of its vertices on it)
+    costing ``1 + balance[g]`` cells (:func:`weighted_bisection` of the cell
+    centroids).  Call on the rank holding the Gmsh model.
+
+    Why: the surface integrals (contact law, film, their tractions) cost several
+    cell integrals per facet, and DOLFINx's graph partitioner balances cells
+    alone; on the ball's demo mesh at 2 ranks it left 2,527 of the 3,065 contact
+    facets on one rank, which the other waited for at every assembly
+    (docs/performance.md, "Balancing the contact surface").
+    """
+    tags, coords, _ = model.mesh.getNodes()
+    x = np.zeros((int(tags.max()), 3))
+    x[tags.astype(np.int64) - 1] = coords.reshape(-1, 3)
+    groups = {model.getPhysicalName(d, t): t for d, t in model.getPhysicalGroups(tdim - 1)}
+    masks = []
+    for group, weight in balance.items():  # the groups checked by _check_balance
+        on = np.zeros(len(x), dtype=bool)
+        on[model.mesh.getNodesForPhysicalGroup(tdim - 1, groups[group])[0].astype(np.int64) - 1] = (
+            True
+        )
+        masks.append((on, float(weight)))
+
+    def partition(vertices: np.ndarray, nparts: int) -> np.ndarray:
+        if vertices.size == 0:
+            return np.zeros(0, dtype=np.int32)
+        weights = np.ones(len(vertices))
+        for on, weight in masks:
+            weights += weight * (on[vertices].sum(axis=1) >= tdim)
+        return weighted_bisection(x[vertices].mean(axis=1), weights, nparts)
+
+    return partition
+
+
 def from_builder(
     build: Any,
     params: Any,
@@ -94,6 +159,7 @@ def from_builder(
     out_dir: str | Path | None = None,
     name: str | None = None,
     verbose: bool = False,
+    balance: dict[str, float] | None = None,
 ) -> TaggedMesh:
     """Run a Gmsh builder on ``rank`` and distribute its mesh over ``comm``.
 
@@ -105,6 +171,9 @@ def from_builder(
         out_dir: If given, ``rank`` also writes ``NAME.msh`` and ``info.json`` there.
         name: Mesh file stem (default the kind).
         verbose: Show Gmsh's log.
+        balance: None: DOLFINx's graph partitioner (balances the cells); else
+            ``{facet group: extra cost}``: the cells on those facet groups count
+            ``1 + cost`` cells (:func:`surface_weighted_partition`).
 
     Returns:
         The distributed mesh and tags.
@@ -133,14 +202,32 @@ def from_builder(
             if status[0] != "ok":
                 _raise(status, rank)
             info_d = status[1]
-            mesh, ct, ft = model_to_mesh(gmsh.model, comm, rank, int(info_d["gdim"]))
+            _check_balance(balance, info_d)
+            partition = None
+            if balance and comm.size > 1:
+                partition = surface_weighted_partition(gmsh.model, int(info_d["tdim"]), balance)
+            mesh, ct, ft = model_to_mesh(gmsh.model, comm, rank, int(info_d["gdim"]), partition)
     else:
         status = comm.bcast(None, root=rank)
         if status[0] != "ok":
             _raise(status, rank)
         info_d = status[1]
-        mesh, ct, ft = model_to_mesh(None, comm, rank, int(info_d["gdim"]))
+        _check_balance(balance, info_d)
+        # the other ranks hold no cells; they take part in the partitioner's call
+        partition = (lambda v, n: np.zeros(0, dtype=np.int32)) if balance else None
+        mesh, ct, ft = model_to_mesh(None, comm, rank, int(info_d["gdim"]), partition)
     return _finish(mesh, ct, ft, info_d)
+
+
+def _check_balance(balance: dict[str, float] | None, info: dict[str, Any]) -> None:
+    """The partition's facet groups exist and their costs are >= 0 (every rank)."""
+    for group, cost in (balance or {}).items():
+        if group not in info["facet_groups"]:
+            raise ParameterError(f"balance: the {info['kind']} mesh has no facet group "
+                                 f"{group!r} (it has {sorted(info['facet_groups'])})")  # fmt: skip
+        if not cost >= 0.0:
+            raise ParameterError(f"balance[{group!r}] = {cost!r} is outside the allowed "
+                                 "range [0, inf)")  # fmt: skip
 
 
 def _raise(status: tuple[str, Any], rank: int) -> None:
@@ -159,6 +246,7 @@ def create_mesh(
     out_dir: str | Path | None = None,
     name: str | None = None,
     verbose: bool = False,
+    balance: dict[str, float] | None = None,
     **overrides: Any,
 ) -> TaggedMesh:
     """Build a ``cylinder``, ``ball``, ``lip`` or ``lip-sector`` mesh and distribute it.
@@ -171,6 +259,8 @@ def create_mesh(
         out_dir: If given, also write ``NAME.msh`` and ``info.json`` there (from ``rank``).
         name: Mesh file stem (default the kind).
         verbose: Show Gmsh's log.
+        balance: The partition's extra cost of the cells on facet groups
+            (:func:`from_builder`).
         **overrides: Parameter fields to change (validated on every rank).
 
     Returns:
@@ -180,7 +270,8 @@ def create_mesh(
     p = params if params is not None else mod.PARAMS()
     if overrides:
         p = dataclasses.replace(p, **overrides)
-    return from_builder(mod.BUILD, p, comm, rank, out_dir=out_dir, name=name, verbose=verbose)
+    return from_builder(mod.BUILD, p, comm, rank, out_dir=out_dir, name=name, verbose=verbose,
+                        balance=balance)  # fmt: skip
 
 
 def read_mesh(path: str | Path, comm: Any = None, rank: int = 0) -> TaggedMesh:
