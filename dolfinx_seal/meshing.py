@@ -133,10 +133,9 @@ def surface_weighted_partition(model: Any, tdim: int, balance: dict[str, float])
     groups = {model.getPhysicalName(d, t): t for d, t in model.getPhysicalGroups(tdim - 1)}
     masks = []
     for group, weight in balance.items():  # the groups checked by _check_balance
+        nodes = model.mesh.getNodesForPhysicalGroup(tdim - 1, groups[group])[0]
         on = np.zeros(len(x), dtype=bool)
-        on[model.mesh.getNodesForPhysicalGroup(tdim - 1, groups[group])[0].astype(np.int64) - 1] = (
-            True
-        )
+        on[nodes.astype(np.int64) - 1] = True
         masks.append((on, float(weight)))
 
     def partition(vertices: np.ndarray, nparts: int) -> np.ndarray:
