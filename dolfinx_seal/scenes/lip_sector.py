@@ -490,6 +490,9 @@ class SectorLip:
         gap_limiter: The Newton step limit on the contact gaps; while the
             roughness comes in it crosses zero by at most :data:`CREST_CROSSING`
             ``h_rms`` a step.
+        narrow_limits: The step limits without the tip's twist
+            (:func:`sector_step_limits`), taken where the wide ones fail
+            (:func:`_first_equilibrium`).
     """
 
     problem: SectorProblem
@@ -505,6 +508,7 @@ class SectorLip:
     sliding_point: tuple[float, list[Any]] | None = None
     steps: dict[str, Any] = field(default_factory=dict)
     gap_limiter: SurfaceGapLimiter | None = None
+    narrow_limits: StepLimits | None = None
 
     @property
     def per_revolution(self) -> float:
@@ -628,6 +632,7 @@ def build(params: LipStaticParameters) -> SectorLip:
         upwinding_weight=1.0 if fp.discrete_upwinding else 0.0,
         tangent=bool(getattr(params, "tangent", False)),
         gap_limiter=closing,
+        narrow_limits=sector_step_limits(mp, twist=False),
     )
     film_solver = film.make_solver(
         dataclasses.replace(
@@ -645,11 +650,12 @@ def build(params: LipStaticParameters) -> SectorLip:
     return out
 
 
-def sector_step_limits(mp: LipSectorParams) -> StepLimits:
+def sector_step_limits(mp: LipSectorParams, twist: bool = True) -> StepLimits:
     """The sector's Newton step limits [m]: the radial component (``x``, radial in the
     sector's middle plane, ``Shaft3D.normal_axis``) by half a band element (the
     motion the contact law drives, and what can invert the band's thin
-    elements), any component by half the largest element (``sector.h_far``).
+    elements); with ``twist``, any component by half the largest element
+    (``sector.h_far``), else by half a band element as well.
 
     The asperity shear twists the lip tip along the circumference as a whole, a
     motion the axisymmetric installation does not have, so the sector's first
@@ -658,9 +664,22 @@ def sector_step_limits(mp: LipSectorParams) -> StepLimits:
     every component held to half a band element (1.3 um) the first solve took 10
     Newton steps, the residual falling by equal amounts (2.34e-5, 2.07e-5, ...,
     1.92e-6) until the step was whole; with half the largest element it took 4.
-    The gaps keep their own limit (:class:`SurfaceGapLimiter`)."""
+    The gaps keep their own limit (:class:`SurfaceGapLimiter`).  Where the wide
+    steps fail, the dry stage starts again with the narrow ones
+    (:func:`_first_equilibrium`)."""
     # h_far >= h_band (LipSectorParams checks it)
-    return StepLimits(max_step=0.5 * mp.h_far, max_normal_step=0.5 * mp.h_band)
+    band = 0.5 * mp.h_band
+    return StepLimits(max_step=0.5 * mp.h_far if twist else band, max_normal_step=band)
+
+
+def _use_step_limits(lub: SectorLip, limits: StepLimits) -> None:
+    """Give the sector's solver ``limits`` (with the gap limit, as :func:`build` does)."""
+    prob = lub.problem
+    prob.limits = limits
+    own = prob.step_limiter()
+    closing = lub.gap_limiter
+    assert closing is not None
+    prob.solver.step_limiter = lambda x, dx: min(own(x, dx), closing(x, dx))
 
 
 def _set_installed(prob: SolidContactProblem, revolved: RevolvedState) -> None:
@@ -745,8 +764,7 @@ def solve_dry(lub: SectorLip, params: LipStaticParameters) -> dict[str, Any]:
 def _dry_stages(lub: SectorLip, params: LipStaticParameters) -> None:
     """The dry solves of :func:`solve_dry`; Newton steps and homotopy steps into ``lub.steps``."""
     prob = lub.problem
-    hist = prob.solver.solve(where=f"{prob.name}: sector equilibrium at the installed state")
-    its = hist.newton_iterations
+    its = _first_equilibrium(lub)
     steps = 0
     if lub.roughness.surface is not None:
         prob.ramp_hook = lambda t: setattr(lub.height_scale, "value", t)
@@ -771,6 +789,33 @@ def _dry_stages(lub: SectorLip, params: LipStaticParameters) -> None:
         lub.height_scale.value = 1.0
         its += prob.solver.solve(where=f"{prob.name}: two-scale dry state").newton_iterations
     lub.steps.update(dry_newton_iterations=its, roughness_steps=steps)
+
+
+def _first_equilibrium(lub: SectorLip) -> int:
+    """The sector's equilibrium at the installed state; its Newton steps.
+
+    With the wide step limits first (the tip twists by up to half the largest
+    element a step, :func:`sector_step_limits`); if that solve fails, again from
+    the installed state with every component held to half a band element, which
+    the rest of the dry stage keeps.  Measured (7 December, the stability table on
+    the coarse band, one rank): the wide steps crushed the rubber (a NaN residual)
+    on a very soft elastomer (E 2 MPa, after 23 Newton steps) and on a fine shaft
+    (h_rms 0.1 um, after 5); both cases had converged with the narrow steps.
+    """
+    prob = lub.problem
+    where = f"{prob.name}: sector equilibrium at the installed state"
+    start = prob.state()
+    try:
+        return prob.solver.solve(where=where).newton_iterations
+    except SolverError as e:
+        get_logger().warning("%s: %s; again with every component of a step held to half a "
+                             "band element", prob.name, e.what)  # fmt: skip
+        lost = e.history.newton_iterations
+    prob.restore(start)
+    assert lub.narrow_limits is not None
+    _use_step_limits(lub, lub.narrow_limits)
+    hist = prob.solver.solve(where=f"{where} (narrow steps, after the wide ones failed)")
+    return lost + hist.newton_iterations
 
 
 def set_sealed_pressures(lub: SectorLip, oil: float, air: float) -> None:

@@ -388,6 +388,54 @@ def test_the_tip_twists_by_half_the_largest_element_a_step(sector):
     assert scale(radial) == pytest.approx(0.25, rel=1e-12)
 
 
+def test_a_failed_wide_first_solve_starts_again_with_narrow_steps(sector, monkeypatch):
+    """``_first_equilibrium``: when the sector's first solve with the twisting step
+    limits fails (here made to fail: the stability table's E 2 MPa and h_rms 0.1
+    um cases crushed the rubber that way), it starts again from the installed
+    state with every component held to half a band element, and keeps those
+    limits: a twist of 0.4 ``h_far`` is then cut to half a band element."""
+    from dolfinx_seal.errors import SolveHistory, SolverError
+    from dolfinx_seal.scenes import lip_sector
+
+    p, lub, _, _ = sector
+    prob = lub.problem
+    comm = prob.mesh.comm
+    mp = p.mesh_params()
+    wide = prob.limits
+    start = [a.copy() for a in prob.state()]
+    solve = prob.solver.solve
+    calls = []
+
+    def failing_once(where=""):
+        calls.append(where)
+        if len(calls) == 1:
+            prob.w.x.array[:] += 1e-6  # the failed solve leaves its last iterate
+            raise SolverError("SNES DIVERGED_FNORM_NAN", where=where,
+                              history=SolveHistory(residual_norms=[1.0, 2.0, 3.0]))  # fmt: skip
+        assert all(np.array_equal(a, b) for a, b in zip(prob.state(), start, strict=True))
+        return solve(where=where)
+
+    monkeypatch.setattr(prob.solver, "solve", failing_once)
+    try:
+        its = lip_sector._first_equilibrium(lub)
+        assert len(calls) == 2 and "narrow steps" in calls[1]
+        assert its >= 2  # the two steps lost, and the narrow solve's own
+        assert prob.limits == lip_sector.sector_step_limits(mp, twist=False)
+        x = prob.solver.x.getArray(readonly=True).copy()
+        Vy, uy = prob.W.sub(0).sub(1).collapse()
+        uy = np.asarray(uy)
+        phi = np.arctan2(*Vy.tabulate_dof_coordinates()[:, 1::-1].T)
+        dx = np.zeros_like(x)
+        own = uy < prob.W.dofmap.index_map.size_local
+        dx[uy[own]] = -0.4 * mp.h_far * np.cos(phi[own])
+        got = comm.allreduce(float(prob.solver.step_limiter(x, dx)), op=MPI.MIN)
+        assert got == pytest.approx(0.5 * mp.h_band / (0.4 * mp.h_far), rel=1e-6)
+    finally:
+        monkeypatch.undo()
+        lip_sector._use_step_limits(lub, wide)
+        prob.restore(start)
+
+
 @pytest.mark.parametrize(
     ("values", "name"),
     [
