@@ -112,9 +112,10 @@ BALL_FACTOR_REUSE = 8
 
 #: The mesh partition's cost of a cell on the contact cap, in cells, beyond its
 #: own (:func:`~dolfinx_seal.meshing.surface_weighted_partition`): the contact
-#: surface's integrals (asperity law, film, tractions) took 0.47 s of the
-#: one-rank Jacobian on 3,065 facets, the bulk 0.37 s on 12,348 cells (the demo
-#: mesh, 7 December), about 150 against 30 us.  DOLFINx's graph partitioner,
+#: surface's integrals (asperity law, film, tractions), assembled apart, took
+#: 0.47 s on 3,065 facets at one rank, and the whole Jacobian 0.844 s, so the bulk
+#: about 0.37 s on 12,348 cells (the demo mesh, 7 December): about 150 against 30
+#: us.  DOLFINx's graph partitioner,
 #: which balances cells, left 2,527 of the 3,065 facets on one of 2 ranks.
 CONTACT_COST = 5.0
 
