@@ -616,9 +616,8 @@ def build(params: LipStaticParameters) -> SectorLip:
     # no Newton step closes a contact gap by more than half of itself (the contact law
     # diverges as u -> 0: an overshoot into u < 0 is decades of pressure); the gap
     # and the radial normal from the problem itself, roughness included
-    own = prob.solver.step_limiter
     closing = SurfaceGapLimiter(prob, GAP_CLOSURE, law.h_rms / law.alpha)
-    prob.solver.step_limiter = lambda x, dx: min(own(x, dx) if own else 1.0, closing(x, dx))
+    _with_gap_limit(prob, prob.solver.step_limiter, closing)
     film.set_edge_pressures(0.0, 0.0)
     if film.has_couette:  # a sliding shaft: pressurised at a slow speed, then walked up
         film.set_speed(start_speed(params.film.speed, lifts(params)))
@@ -672,14 +671,18 @@ def sector_step_limits(mp: LipSectorParams, twist: bool = True) -> StepLimits:
     return StepLimits(max_step=0.5 * mp.h_far if twist else band, max_normal_step=band)
 
 
+def _with_gap_limit(prob: SolidContactProblem, own: Any, closing: SurfaceGapLimiter) -> None:
+    """The sector solver's step limit: the displacement limit ``own`` (or None) and
+    the gap limit ``closing``, whichever cuts more."""
+    prob.solver.step_limiter = lambda x, dx: min(own(x, dx) if own else 1.0, closing(x, dx))
+
+
 def _use_step_limits(lub: SectorLip, limits: StepLimits) -> None:
-    """Give the sector's solver ``limits`` (with the gap limit, as :func:`build` does)."""
+    """Give the sector's solver ``limits``, with its gap limit."""
     prob = lub.problem
     prob.limits = limits
-    own = prob.step_limiter()
-    closing = lub.gap_limiter
-    assert closing is not None
-    prob.solver.step_limiter = lambda x, dx: min(own(x, dx), closing(x, dx))
+    assert lub.gap_limiter is not None
+    _with_gap_limit(prob, prob.step_limiter(), lub.gap_limiter)
 
 
 def _set_installed(prob: SolidContactProblem, revolved: RevolvedState) -> None:
