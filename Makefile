@@ -61,10 +61,20 @@ bench:  ## benchmarks write into bench/results/
 	$(DX) python3 bench/lip_extremes.py
 	$(DX) python3 bench/rough_band.py
 
-bench-perf:  ## issue 18: the 30-speed ball Stribeck sweep on 1 rank, on $(NP) ranks, and as $(NP) one-rank chains (bench/results/perf/perf.csv)
-	$(DX) python3 bench/perf.py --chains 1
-	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains 1
-	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains $(NP)
+# the solver before issue 18 (a new reduced submatrix and MUMPS analysis every Newton
+# step, the secant predictor, no Newton cap or stall rule): the reference row
+PERF_BEFORE = --solver vi_linear_solve=submatrix --set stepping.tangent=false \
+	--set stepping.max_newton=0 --set stepping.stall_steps=0
+# film maps of every PERF_FILES-th speed (about 1 s each on rank 0; 1: every speed)
+PERF_FILES ?= 10
+PERF_REF = --reference bench/results/perf/before/sweep.csv --point-files $(PERF_FILES)
+
+bench-perf:  ## issue 18, about 40 min: the 30-speed ball Stribeck sweep with the solver before issue 18 on $(NP) ranks, then today's on 1 rank, on $(NP) ranks, and as $(NP) one-rank chains, each compared with the first; the cylinder point in linear-elastic solves (bench/results/perf/perf.csv, coupled_vs_partitioned.csv)
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains 1 --label before $(PERF_BEFORE) --point-files 0
+	$(DX) python3 bench/perf.py --chains 1 $(PERF_REF)
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains 1 $(PERF_REF)
+	$(DX) mpirun -n $(NP) python3 bench/perf.py --chains $(NP) $(PERF_REF)
+	$(DX) python3 bench/coupled_vs_partitioned.py --tangent --relaxations 1 --budget 20 --out bench/results/perf
 
 bench-point:  ## issue 18: one ball point at a/20 (1 m/s, from its start) on 1 and on $(NP) ranks (bench/results/perf/perf.csv)
 	$(DX) python3 bench/perf.py --points 1 --per-a 20 --label "point a/20, 1 rank"
