@@ -22,7 +22,9 @@ one row of ``<out>/perf.csv``:
   solver's), the largest relative difference of mu, h_central and h_min at the
   shared speeds.
 
-Run (``make bench-perf`` runs the three layouts on 2 cores)::
+Run (``make bench-perf`` runs the solver before issue 18 first, ``--label before``
+with the options of its ``PERF_BEFORE``, then these three layouts with
+``--reference`` to its ``sweep.csv``, on 2 cores)::
 
     scripts/dx python3 bench/perf.py --chains 1
     scripts/dx mpirun -n 2 python3 bench/perf.py --chains 1
