@@ -115,8 +115,8 @@ BALL_FACTOR_REUSE = 8
 #: surface's integrals (asperity law, film, tractions), assembled apart, took
 #: 0.47 s on 3,065 facets at one rank, and the whole Jacobian 0.844 s, so the bulk
 #: about 0.37 s on 12,348 cells (the demo mesh, 7 December): about 150 against 30
-#: us.  DOLFINx's graph partitioner,
-#: which balances cells, left 2,527 of the 3,065 facets on one of 2 ranks.
+#: us.  DOLFINx's graph partitioner, which balances cells, left 2,527 of the
+#: 3,065 facets on one of 2 ranks.
 CONTACT_COST = 5.0
 
 
