@@ -12,6 +12,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from dolfinx_seal.errors import ParameterError, SolverError
+from dolfinx_seal.solid.problem import SolidContactProblem, SteppingOptions
 from dolfinx_seal.solvers import (
     NonlinearSolver,
     SNESOptions,
@@ -364,6 +365,124 @@ def test_path_tangent_with_the_last_factorisation_equals_the_difference_quotient
     for vec in (F0, dF):
         vec.destroy()
     solver.destroy()
+
+
+def _scaled_nonlinear_poisson(comm, n=24, mesh=None):
+    """-div((1 + u^2) grad u) = s f on the unit square, ``f`` the manufactured one
+    of :func:`_nonlinear_poisson` (u = 0 on the boundary): a nonlinear path ``u(s)``
+    in the load scale ``s``, solved by a plain Newton."""
+    mesh = mesh or dolfinx.mesh.create_unit_square(comm, n, n)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2))
+    x = ufl.SpatialCoordinate(mesh)
+    ue = 4 * x[0] * (1 - x[0]) * x[1] * (1 - x[1])
+    scale = dolfinx.fem.Constant(mesh, 1.0)
+    u = dolfinx.fem.Function(V)
+    v = ufl.TestFunction(V)
+    F = (
+        ufl.inner((1 + u**2) * ufl.grad(u), ufl.grad(v)) * ufl.dx
+        + scale * ufl.div((1 + ue**2) * ufl.grad(ue)) * v * ufl.dx
+    )
+    mesh.topology.create_connectivity(1, 2)
+    dofs = dolfinx.fem.locate_dofs_topological(
+        V, 1, dolfinx.mesh.exterior_facet_indices(mesh.topology)
+    )
+    return NonlinearSolver(F, u, [dolfinx.fem.dirichletbc(0.0, dofs, V)]), u, scale
+
+
+def _symbolic_factorisations() -> int:
+    return int(PETSc.Log.Event("MatLUFactorSym").getPerfInfo()["count"])
+
+
+def test_plain_newton_tangent_is_factorised_in_the_snes_pattern():
+    """``NonlinearSolver.tangent`` after a converged ``newtonls`` solve: the
+    Jacobian at the solution, factorised by the SNES's own LU in the pattern it
+    has analysed (one numeric factorisation, no analysis); the tangent's own
+    direct solve (``reuse_factorisation=False``) analyses afresh.  Both against
+    the central difference quotient of converged solutions at s = 3 +- 1e-3,
+    whose truncation error is O(1e-6) of the tangent (measured: 1e-7), to 1e-6
+    (1 and 2 ranks)."""
+    PETSc.Log.begin()
+    comm = MPI.COMM_WORLD
+    solver, u, scale = _scaled_nonlinear_poisson(comm)
+    n = u.function_space.dofmap.index_map.size_local
+
+    def solution(s: float) -> np.ndarray:
+        scale.value = s
+        assert solver.solve().newton_iterations > 0
+        return u.x.array[:n].copy()
+
+    lo, hi = solution(3.0 - 1e-3), solution(3.0 + 1e-3)
+    solution(3.0)
+    F0 = solver.residual()
+    scale.value = 4.0
+    dF = solver.residual()  # the residual is affine in s: dF/ds exactly
+    dF.axpy(-1.0, F0)
+    scale.value = 3.0
+    num, sym = _numeric_factorisations(), _symbolic_factorisations()
+    t_own = solver.tangent(dF)
+    assert (_numeric_factorisations() - num, _symbolic_factorisations() - sym) == (1, 0)
+    t_fresh = solver.tangent(dF, reuse_factorisation=False)
+    assert (_numeric_factorisations() - num, _symbolic_factorisations() - sym) == (2, 1)
+    quotient = (hi - lo) / 2e-3
+    size = comm.allreduce(float(np.abs(quotient).max()), MPI.MAX)
+    assert size > 0.1  # a real path: u grows with s
+    for t in (t_own, t_fresh):
+        err = comm.allreduce(float(np.abs(t.array[:n] - quotient).max()), MPI.MAX)
+        assert err <= 1e-6 * size, err
+        t.destroy()
+    # the SNES solves on from its refactorised LU: the same solution at s = 3.001
+    assert np.allclose(solution(3.0 + 1e-3), hi, rtol=0, atol=1e-12 * size)
+    for vec in (F0, dF):
+        vec.destroy()
+    solver.destroy()
+
+
+def test_load_ramp_from_the_tangent_takes_fewer_newton_steps_to_the_same_state():
+    """``SteppingOptions(predictor=True, tangent=True)``: the ramp in the load
+    scale of the nonlinear problem above, in quarter steps, reaches the solution
+    of one solve at s = 3 (to the solver's tolerance) in fewer Newton steps than
+    from the secant or from the last state (1 and 2 ranks)."""
+    comm = MPI.COMM_WORLD
+    mesh = dolfinx.mesh.create_unit_square(comm, 24, 24)  # one partition for the three
+
+    class _Ramped:
+        name = "ramp"
+        ramp = SolidContactProblem.ramp
+        _predict = SolidContactProblem._predict
+        _predict_tangent = SolidContactProblem._predict_tangent
+        path_tangent = SolidContactProblem.path_tangent
+        _drop_load_tangent = SolidContactProblem._drop_load_tangent
+
+        def __init__(self) -> None:
+            self.solver, self.u, self.scale = _scaled_nonlinear_poisson(comm, mesh=mesh)
+            self.steps: list = []
+            self._load_tangent = None
+
+        def set_fraction(self, t: float) -> None:
+            self.scale.value = 3.0 * t
+
+        def state(self) -> list[np.ndarray]:
+            return [self.u.x.array.copy()]
+
+        def restore(self, state) -> None:
+            self.u.x.array[:] = state[0]
+
+    n_steps, finals = {}, {}
+    for label, kw in (("none", {}), ("secant", {"predictor": True}),
+                      ("tangent", {"predictor": True, "tangent": True})):  # fmt: skip
+        prob = _Ramped()
+        steps = prob.ramp(SteppingOptions(first=0.25, grow=1.0, **kw))
+        assert [round(s.fraction, 12) for s in steps] == [0.25, 0.5, 0.75, 1.0]
+        assert prob._load_tangent is None  # freed after the ramp
+        n_steps[label] = sum(s.newton_iterations for s in steps)
+        finals[label] = prob.u.x.array.copy()
+        prob.solver.destroy()
+    ref = finals["none"]
+    size = comm.allreduce(float(np.abs(ref).max()), MPI.MAX)
+    for label in ("secant", "tangent"):
+        err = comm.allreduce(float(np.abs(finals[label] - ref).max()), MPI.MAX)
+        assert err <= 1e-7 * size, (label, err)
+    assert n_steps["tangent"] < n_steps["secant"] <= n_steps["none"], n_steps
 
 
 def test_switching_the_vi_type_resets_the_solvers_own_options():

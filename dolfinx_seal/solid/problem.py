@@ -59,6 +59,9 @@ from dolfinx_seal.surface.state import SurfaceState
 #: relative size of the pulling part of the asperity force that makes a state
 #: inadmissible (:meth:`SolidContactProblem.folded_contact`)
 FOLD_TOLERANCE = 1e-3
+#: load-fraction step of the one-sided difference of the residual in
+#: :meth:`SolidContactProblem.path_tangent` (fractions run from 0 to 1)
+LOAD_TANGENT_DELTA = 1e-6
 
 
 @dataclass
@@ -75,6 +78,10 @@ class SteppingOptions:
         predictor: Start each step from the linear extrapolation of the last two
             converged states (useful under position control, where the contact
             zone must follow the moving counter-surface).
+        tangent: With ``predictor``, extrapolate along the tangent of the load
+            path at the last converged state instead (``J dx/dt = -dF/dt``,
+            :meth:`SolidContactProblem.path_tangent`; also at the first step),
+            from the factorisation of that state's last Newton step.
         max_increment: Largest increment (None: no cap).
         max_newton: Newton steps allowed to one step before it counts as failed and
             is cut (0: the solver's own limit).  A step that needs many more than
@@ -92,6 +99,7 @@ class SteppingOptions:
     min_increment: float = 1e-4
     max_steps: int = 200
     predictor: bool = False
+    tangent: bool = False
     max_increment: float | None = None
     max_newton: int = 0
     stall_steps: int = 0
@@ -329,6 +337,7 @@ class SolidContactProblem:
         if self.bulk and film is not None and law is not None:
             self.solver.acceptance = self.folded_contact
         self.steps: list[StepRecord] = []
+        self._load_tangent: tuple[float, Any] | None = None  # (fraction, dx/dt) of ramp()
         self._force_compiled = dolfinx.fem.form(self.force_form)
 
     # ---------------------------------------------------------------- set-up
@@ -560,14 +569,20 @@ class SolidContactProblem:
             if on_step is not None:
                 on_step(t)
 
+        predictor = None
+        if st.predictor:
+            predictor = self._predict_tangent if st.tangent else self._predict
         walk = AdaptiveWalk(
             st.control(t_end - t_start), self.set_fraction,
             lambda t: self.solver.solve(where=f"{self.name} at load fraction {t:.4g}").newton_iterations,
-            self.state, self.restore, predictor=self._predict if st.predictor else None,
+            self.state, self.restore, predictor=predictor,
             on_accept=record, name=f"{self.name} load stepping",
         )  # fmt: skip
-        with self.solver.newton_limit(st.max_newton, st.stall_steps):
-            res = walk.walk(t_start, t_end, stop=stop)
+        try:
+            with self.solver.newton_limit(st.max_newton, st.stall_steps):
+                res = walk.walk(t_start, t_end, stop=stop)
+        finally:
+            self._drop_load_tangent()
         if res.converged:
             return self.steps
         t = res.reached
@@ -624,8 +639,51 @@ class SolidContactProblem:
         return res.newton_iterations
 
     def _predict(self, history: Any, t: float) -> None:
-        """Secant predictor in the load fraction."""
-        self.restore(secant(history, t))
+        """Secant predictor in the load fraction (from the second step on)."""
+        if len(history) == 2:
+            self.restore(secant(history, t))
+
+    def _predict_tangent(self, history: Any, t: float) -> None:
+        """Tangent predictor in the load fraction: ``x(t) = x(t0) + (t - t0) dx/dt``
+        from the last converged state at ``t0`` (its tangent made once, kept for
+        the retries of a cut step); the load fraction is left at ``t``."""
+        t0 = float(history[-1][0])
+        if self._load_tangent is None or self._load_tangent[0] != t0:
+            self._drop_load_tangent()
+            self._load_tangent = (t0, self.path_tangent(t0))
+            self.set_fraction(t)
+        solver = self.solver
+        x = solver.x.copy()
+        solver.assembly.from_functions(x)
+        x.axpy(t - t0, self._load_tangent[1])
+        solver.assembly.to_functions(x)
+        x.destroy()
+
+    def path_tangent(self, t: float) -> Any:
+        """The tangent ``dx/dt`` of the load path at the current state, converged
+        at load fraction ``t``: ``J dx/dt = -dF/dt`` (:meth:`NonlinearSolver.tangent
+        <dolfinx_seal.solvers.NonlinearSolver.tangent>`, from the factorisation of
+        the last Newton step where it is that state's), with ``dF/dt`` a one-sided
+        difference of the residual over :data:`LOAD_TANGENT_DELTA`.  A vector of
+        the solver's layout (the caller destroys it); the fraction is left at ``t``."""
+        solver = self.solver
+        self.set_fraction(t)
+        F0 = solver.residual()
+        self.set_fraction(t + LOAD_TANGENT_DELTA)
+        dF = solver.residual()
+        self.set_fraction(t)
+        dF.axpy(-1.0, F0)
+        dF.scale(1.0 / LOAD_TANGENT_DELTA)
+        F0.destroy()
+        try:
+            return solver.tangent(dF)
+        finally:
+            dF.destroy()
+
+    def _drop_load_tangent(self) -> None:
+        if self._load_tangent is not None:
+            self._load_tangent[1].destroy()
+            self._load_tangent = None
 
     def warm_start(self, pressure_guess: Any, peak_separation: float) -> int:
         """Start from the deformation under a guessed contact pressure (e.g. Hertz).

@@ -182,7 +182,8 @@ class AdaptiveWalk:
             (``(linear, linear)`` or ``(log10_abs, signed power of ten)``): see
             :meth:`log_speed`.
         predictor: ``predictor(history, coordinate)`` sets the start of a step
-            from the two last accepted states (None: start from the last one).
+            from the last accepted states (one at the first step, then two; the
+            current state is the last of them); None: start from the last one.
         on_accept: Called with the value and the Newton steps of each accepted step.
         name: Named in the log lines and errors.
     """
@@ -250,7 +251,7 @@ class AdaptiveWalk:
             saved = self.save()
             t0 = time.perf_counter()
             self.apply(v_try)
-            if self.predictor is not None and len(self.history) == 2:
+            if self.predictor is not None:
                 self.predictor(self.history, c_try)
             try:
                 its = self.solve(v_try)

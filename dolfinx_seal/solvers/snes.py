@@ -399,6 +399,8 @@ class NonlinearSolver:
         # the unknowns of the last converged solve, while the factorisation is its own
         self._converged_x: PETSc.Vec | None = None
         self._factor_is_converged = False
+        self._converged_snes: PETSc.SNES | None = None
+        self._converged_fx: PETSc.Vec | None = None  # _converged_x as the functions hold it
         self._residual_scale: float | None = None
 
     # ---------------------------------------------------------------- set-up
@@ -837,6 +839,12 @@ class NonlinearSolver:
                 self._converged_x = self.x.duplicate()
             self.x.copy(self._converged_x)
             self._factor_is_converged = True
+            self._converged_snes = snes  # a switch of type or options builds a new one
+            # the unknowns as the functions hold them: with a constraint the slave
+            # entries of ``x`` are the start's, the functions' are the masters' image
+            if self._converged_fx is None:
+                self._converged_fx = self.x.duplicate()
+            self._from_functions(self._converged_fx)
         return self.history
 
     def solve_penalty(
@@ -909,7 +917,36 @@ class NonlinearSolver:
         Otherwise one direct solve with the Jacobian at the current unknowns, by
         its own KSP (``<prefix>tangent_``: LU by ``factor_solver``) with the
         semismooth active set (``x - F`` beyond a bound), the solver's own
-        factorisation left as it is."""
+        factorisation left as it is.
+
+        A plain Newton (``newtonls``, LU, no kept factorisation) at the unknowns of
+        its last converged solve factorises the Jacobian there with its SNES's own
+        LU, in the pattern it has analysed (one assembly and one numeric
+        factorisation, no analysis, no copy).  It does not reuse a factorisation
+        of that solve: on the lip sector's roughness path the Jacobian one Newton
+        step before convergence gave tangents whose next step failed (15 Newton
+        steps), where the Jacobian at the solution gave steps that start
+        converged."""
+        if reuse_factorisation and self._plain_lu_at_converged():
+            rhs = dF.copy()
+            rhs.scale(-1.0)
+            t = rhs.duplicate()
+            try:
+                # the Jacobian here, factorised by the solve in the SNES's pattern
+                self._jacobian(self._snes, self.x, self.A, self.A)
+                ksp = self._snes.getKSP()
+                ksp.solve(rhs, t)
+                reason = ksp.getConvergedReason()
+            finally:
+                rhs.destroy()
+            if reason < 0 or not np.isfinite(t.norm()):
+                t.destroy()
+                raise SolverError(
+                    "the tangent's solve with the last factorisation failed "
+                    f"({_named(PETSc.KSP.ConvergedReason, reason)})",
+                    where=f"{self.name} tangent predictor",
+                )
+            return t
         lagged = self._full_lu if reuse_factorisation and self._at_converged_solve() else None
         if (
             lagged is not None
@@ -964,19 +1001,39 @@ class NonlinearSolver:
             rhs.destroy()
         return t
 
-    def _at_converged_solve(self) -> bool:
-        """Whether the unknowns are those of the last converged solve and no solve
-        has run since (so the kept factorisation is that solve's last one)."""
-        if not self._factor_is_converged or self._converged_x is None:
+    def _plain_lu_at_converged(self) -> bool:
+        """Whether the unknowns are those of the last converged solve of a plain
+        Newton (no bounds enforced) with a direct solve by its SNES's own LU."""
+        o = self.options
+        return (
+            o.snes_type == "newtonls"
+            and not self._ssn
+            and o.ksp_type == "preonly"
+            and o.pc_type == "lu"
+            and not o.factor_reuse_its
+            and not self._lu_in_pc
+            and self._converged_snes is self._snes
+            and self._factor_is_converged
+            and self._same_unknowns(self._converged_fx)
+        )
+
+    def _same_unknowns(self, ref: PETSc.Vec | None) -> bool:
+        """Whether the unknowns, as the functions hold them, equal ``ref`` (to 1e-14)."""
+        if ref is None:
             return False
         self._from_functions(self.x)
         diff = self.x.copy()
-        diff.axpy(-1.0, self._converged_x)
+        diff.axpy(-1.0, ref)
         same = diff.norm(PETSc.NormType.NORM_INFINITY) <= 1e-14 * max(
-            self._converged_x.norm(PETSc.NormType.NORM_INFINITY), 1e-300
+            ref.norm(PETSc.NormType.NORM_INFINITY), 1e-300
         )
         diff.destroy()
         return same
+
+    def _at_converged_solve(self) -> bool:
+        """Whether the unknowns are those of the last converged solve and no solve
+        has run since (so the kept factorisation is that solve's last one)."""
+        return self._factor_is_converged and self._same_unknowns(self._converged_x)
 
     # ------------------------------------------------------------ diagnostics
     def residual(self) -> PETSc.Vec:
@@ -1129,6 +1186,7 @@ class NonlinearSolver:
             self._snes_penalty,
             self._tangent_ksp,
             self._converged_x,
+            self._converged_fx,
             self.linear_term,
             self.A,
             self.b,

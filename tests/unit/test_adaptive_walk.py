@@ -156,15 +156,16 @@ def test_max_attempts_stops_the_walk():
 
 
 def test_secant_predictor_and_log_coordinate():
-    """In log10 |v|, negative speeds walk by decades too; the secant predictor gets
-    the two last accepted states and the coordinate of the step."""
-    seen: list[tuple[float, float, float]] = []
+    """In log10 |v|, negative speeds walk by decades too; the predictor gets the
+    last accepted states (the start alone at the first step, then two) and the
+    coordinate of the step."""
+    seen: list[tuple[float, ...]] = []
     state = [np.array([0.0])]
 
     def predictor(history, c):
-        (ca, _), (cb, _) = history
-        seen.append((ca, cb, c))
-        state[0][:] = secant(history, c)[0]
+        seen.append((*(ci for ci, _ in history), c))
+        if len(history) == 2:
+            state[0][:] = secant(history, c)[0]
 
     def solve(v: float) -> int:
         state[0][:] = math.log10(abs(v))  # the "solution" is linear in the coordinate
@@ -180,8 +181,8 @@ def test_secant_predictor_and_log_coordinate():
     assert res.converged and [a.value for a in res.accepted] == pytest.approx(
         [-10.0, -100.0, -1000.0], rel=1e-12
     )
-    # first step has one state only: no prediction; then (0, 1) -> 2 and (1, 2) -> 3
-    assert seen == [(0.0, 1.0, 2.0), (1.0, 2.0, 3.0)]
+    # the first step from the start alone, 0 -> 1; then (0, 1) -> 2 and (1, 2) -> 3
+    assert seen == [(0.0, 1.0), (0.0, 1.0, 2.0), (1.0, 2.0, 3.0)]
 
 
 def test_bad_step_control_is_refused_with_its_name():

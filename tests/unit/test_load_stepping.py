@@ -50,6 +50,8 @@ class _Solver:
 class _Problem:
     name = "fake"
     ramp = SolidContactProblem.ramp
+    _drop_load_tangent = SolidContactProblem._drop_load_tangent
+    _load_tangent = None
 
     def __init__(self, reach: float) -> None:
         self.t = self.sol = 0.0
