@@ -1032,7 +1032,13 @@ class NonlinearSolver:
 
     def _at_converged_solve(self) -> bool:
         """Whether the unknowns are those of the last converged solve and no solve
-        has run since (so the kept factorisation is that solve's last one)."""
+        has run since (so the kept factorisation is that solve's last one).
+
+        Compared with the SNES's own solution vector: with a periodic constraint
+        its slave entries are the start's, not the functions', so after a solve
+        of one Newton step or more this is false there and the tangent gets its
+        own Jacobian and LU (the coupled lip sector's walk from the tangent; the
+        plain Newton's tangent compares with the functions' values instead)."""
         return self._factor_is_converged and self._same_unknowns(self._converged_x)
 
     # ------------------------------------------------------------ diagnostics
