@@ -1035,10 +1035,11 @@ class NonlinearSolver:
         has run since (so the kept factorisation is that solve's last one).
 
         Compared with the SNES's own solution vector: with a periodic constraint
-        its slave entries are the start's, not the functions', so after a solve
-        of one Newton step or more this is false there and the tangent gets its
-        own Jacobian and LU (the coupled lip sector's walk from the tangent; the
-        plain Newton's tangent compares with the functions' values instead)."""
+        its slave entries differ from the functions' after a solve of one Newton
+        step or more (seen on the lip sector), so this is false there and the
+        tangent gets its own Jacobian and LU (the coupled lip sector's walk from
+        the tangent; the plain Newton's tangent compares with the functions'
+        values instead)."""
         return self._factor_is_converged and self._same_unknowns(self._converged_x)
 
     # ------------------------------------------------------------ diagnostics
