@@ -81,7 +81,7 @@ class SteppingOptions:
         tangent: With ``predictor``, extrapolate along the tangent of the load
             path at the last converged state instead (``J dx/dt = -dF/dt``,
             :meth:`SolidContactProblem.path_tangent`; also at the first step),
-            from the factorisation of that state's last Newton step.
+            with the Jacobian at that state.
         max_increment: Largest increment (None: no cap).
         max_newton: Newton steps allowed to one step before it counts as failed and
             is cut (0: the solver's own limit).  A step that needs many more than
@@ -662,8 +662,8 @@ class SolidContactProblem:
     def path_tangent(self, t: float) -> Any:
         """The tangent ``dx/dt`` of the load path at the current state, converged
         at load fraction ``t``: ``J dx/dt = -dF/dt`` (:meth:`NonlinearSolver.tangent
-        <dolfinx_seal.solvers.NonlinearSolver.tangent>`, from the factorisation of
-        the last Newton step where it is that state's), with ``dF/dt`` a one-sided
+        <dolfinx_seal.solvers.NonlinearSolver.tangent>`; a plain Newton factorises
+        the Jacobian at the state in its own pattern), with ``dF/dt`` a one-sided
         difference of the residual over :data:`LOAD_TANGENT_DELTA`.  A vector of
         the solver's layout (the caller destroys it); the fraction is left at ``t``."""
         solver = self.solver

@@ -840,8 +840,8 @@ class NonlinearSolver:
             self.x.copy(self._converged_x)
             self._factor_is_converged = True
             self._converged_snes = snes  # a switch of type or options builds a new one
-            # the unknowns as the functions hold them: with a constraint the slave
-            # entries of ``x`` are the start's, the functions' are the masters' image
+            # the unknowns as the functions hold them (with a periodic constraint the
+            # slave entries of ``x`` differ from them: _at_converged_solve)
             if self._converged_fx is None:
                 self._converged_fx = self.x.duplicate()
             self._from_functions(self._converged_fx)
@@ -942,7 +942,7 @@ class NonlinearSolver:
             if reason < 0 or not np.isfinite(t.norm()):
                 t.destroy()
                 raise SolverError(
-                    "the tangent's solve with the last factorisation failed "
+                    "the tangent's solve with the Newton's own LU failed "
                     f"({_named(PETSc.KSP.ConvergedReason, reason)})",
                     where=f"{self.name} tangent predictor",
                 )
