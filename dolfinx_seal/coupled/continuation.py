@@ -339,13 +339,8 @@ def tangent_predictor(prob: Any, tangent: tuple[float, Any], speed: float) -> No
     from the converged state at ``U`` along its :func:`path_tangent`, shortened to
     the problem's gap-closure rule like :func:`secant_predictor`."""
     v0, t = tangent
-    solver = prob.solver
     saved = prob.state()
-    x = solver.x.copy()
-    solver.assembly.from_functions(x)
-    x.axpy(math.log(abs(speed) / abs(v0)), t)
-    solver.assembly.to_functions(x)
-    x.destroy()
+    prob.solver.add_to_unknowns(t, math.log(abs(speed) / abs(v0)))
     pred = prob.state()
     closure = prob.limits.max_gap_closure
     if closure:

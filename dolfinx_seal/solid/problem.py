@@ -652,12 +652,7 @@ class SolidContactProblem:
             self._drop_load_tangent()
             self._load_tangent = (t0, self.path_tangent(t0))
             self.set_fraction(t)
-        solver = self.solver
-        x = solver.x.copy()
-        solver.assembly.from_functions(x)
-        x.axpy(t - t0, self._load_tangent[1])
-        solver.assembly.to_functions(x)
-        x.destroy()
+        self.solver.add_to_unknowns(self._load_tangent[1], t - t0)
 
     def path_tangent(self, t: float) -> Any:
         """The tangent ``dx/dt`` of the load path at the current state, converged
