@@ -703,18 +703,19 @@ def _set_installed(prob: SolidContactProblem, revolved: RevolvedState) -> None:
 #: stage in 68-71 s.  A first step of 1/32 failed at 0.0625 (a NaN, 14 Newton steps
 #: lost); growth after up to 12 Newton steps failed three steps (18 lost, 123-132 s);
 #: steps of 1/8 above t = 0.5 failed five times (52 lost; from the secant).  The
-#: results are the same to 1e-10 (leakage, torque, radial load).  A step is cut after 15 Newton steps, not
-#: fewer: where resolved asperities come into contact a Newton step closes a gap by at
-#: most half (GAP_CLOSURE), so a step needs several whatever its size (with a cut after
-#: 8, the band of 6 elements per lambda_th failed steps of 0.002 at t = 0.045).
+#: results are the same to 1e-10 (leakage, torque, radial load).  A step is cut
+#: after 15 Newton steps, not fewer: where resolved asperities come into contact a
+#: Newton step closes a gap by at most half (GAP_CLOSURE), so a step needs several
+#: whatever its size (with a cut after 8, the band of 6 elements per lambda_th
+#: failed steps of 0.002 at t = 0.045).
 #: Each step starts from the tangent of the path (``tangent``; the Jacobian at the
 #: last converged state, refactorised): on the default sector at two ranks (7
 #: December, back to back) 8 dry Newton steps instead of 34 with the secant, the
 #: dry stage 85 s instead of 116 s, the point 118 s instead of 147 s, the same
 #: leakage, torque and h_min to the printed digits; most steps then start
 #: converged, each costing one Jacobian and one factorisation.  So from the
-#: tangent the cap is 1/8 (7 December, night): 11 steps and 10 Newton steps, the point
-#: 106.6 s against 116.4 s with 1/16 (two ranks, back to back), and the 13 cases
+#: tangent the cap is 1/8 (7 December, night): 11 steps and 10 Newton steps, the
+#: point 106.6 s against 116.4 s with 1/16 (two ranks, back to back), and the 13 cases
 #: of the lip-static stability table give the same results to 4e-9 (the fine
 #: shaft and E 2 MPa, where crests cross zero, 3-4 Newton steps more).
 ROUGHNESS_STEPS = SteppingOptions(first=1.0 / 64, grow=2.0, easy=3, max_steps=80, predictor=True,

@@ -1042,7 +1042,6 @@ class NonlinearSolver:
         values instead)."""
         return self._factor_is_converged and self._same_unknowns(self._converged_x)
 
-    # ------------------------------------------------------------ diagnostics
     def add_to_unknowns(self, step: PETSc.Vec, factor: float) -> None:
         """Unknowns ``+= factor * step`` (``step`` in this solver's layout; with a
         constraint, the slaves follow their masters)."""
@@ -1052,6 +1051,7 @@ class NonlinearSolver:
         self.assembly.to_functions(x)
         x.destroy()
 
+    # ------------------------------------------------------------ diagnostics
     def residual(self) -> PETSc.Vec:
         """The residual vector at the current unknowns (a copy: the caller destroys it)."""
         self._from_functions(self.x)
