@@ -65,6 +65,7 @@ import ufl
 from mpi4py import MPI
 
 from dolfinx_seal.coupled.continuation import path_tangent, tangent_predictor
+from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 from dolfinx_seal.errors import ParameterError, SolverError
 from dolfinx_seal.film.pseudo_time import pseudo_transient_solve
 from dolfinx_seal.film.surface import FilmParams, FilmScales, SurfaceFilm
@@ -1444,7 +1445,9 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     or without it, from the film predictor (:func:`_coupled_from_film`).  With
     ``film.discrete_upwinding`` the term is then rebuilt on the converged lip
     until a solve starts converged (:func:`_settle_upwinding`) and, with
-    ``film.release_upwinding``, released; then :func:`polish_film`.
+    ``film.release_upwinding``, released; then :func:`polish_film`.  Where the
+    film predictor's chain fails too, S0's partitioned scheme from the last
+    converged point (:func:`_coupled_partitioned`).
     """
     if lub.film_only is not None:
         return solve_film(lub, where=f"{where} (frozen lip)")
@@ -1453,6 +1456,7 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     solver = prob.solver
     upwinding = prob.film.params.discrete_upwinding
     last = lub.sliding_point  # kept when this step fails: the walk restores that state
+    start = prob.state()
     its = 0
     with solver.switched(snes_type="semismooth", **COUPLED_SLIDING_OPTIONS):
         converged = False
@@ -1464,7 +1468,16 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
                                   "from the film on the current lip", where, last[0])  # fmt: skip
                 prob.restore(last[1])
         if not converged:
-            its += _coupled_from_film(lub, where)
+            try:
+                its += _coupled_from_film(lub, where)
+            except SolverError as e:
+                get_logger().info("%s: the film predictor's chain failed (%s); S0's "
+                                  "partitioned scheme", where, e.what)  # fmt: skip
+                n, converged, why = _coupled_partitioned(lub, where, start)
+                its += n
+                if not converged:
+                    raise SolverError(f"{e.what}; the partitioned scheme: {why}", where,
+                                      e.history) from e  # fmt: skip
         if upwinding:
             its += _settle_upwinding(lub, where)
             if prob.film.params.release_upwinding:
@@ -1475,6 +1488,69 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
     its += polish_film(lub, where)
     lub.sliding_point = (speed, prob.state()) if lub.tangent else None
     return its
+
+
+#: S0's partitioned scheme as the coupled sliding solve's last resort
+#: (:func:`_coupled_partitioned`): the film pressure and fraction moved by 0.2 of
+#: their change per iteration, until the unrelaxed change of the pressure falls below
+#: 1e-5 of its maximum; stopped after 200 iterations, or 40 that do not halve the
+#: smallest change.  Measured on the lifting default band (floor 0.1,
+#: ``film.discrete_upwinding``, two ranks) from 3 mm/s, where the coupled Newton
+#: and its pseudo-time fall into NaNs at 1 cm/s: 87 iterations, 331 s, then 5
+#: coupled Newton steps; at 3 cm/s from 1 cm/s the change stayed at 1.8-2.4 from the
+#: 6th to the 41st iteration (docs/scenes/lip-sector.md).
+PARTITIONED_FALLBACK = PartitionedOptions(relaxation=0.2, tol=1e-5, max_iterations=200,
+                                          stall_iterations=40)  # fmt: skip
+#: the lip's solves in the partitioned scheme (the film frozen): plain Newton to 1e-9
+#: relative; the coupled Newton that follows takes the point to its own tolerance
+PARTITIONED_LIP_OPTIONS = {"rtol": 1e-9, "max_it": 40}
+
+
+def _coupled_partitioned(lub: SectorLip, where: str, start: list[Any]) -> tuple[int, bool, str]:
+    """The coupled sliding point by S0's partitioned scheme from the problem's state
+    ``start`` (the last converged point; :data:`PARTITIONED_FALLBACK`), then the
+    coupled Newton from its fixed point (:func:`_coupled_newton`);
+    ``(Newton steps, converged, why not)``, ``start`` restored when it fails.
+
+    Each iteration: the film alone on the frozen lip (:func:`solve_film` with
+    ``lub.film_polish`` and its fallbacks, the shaft held), the film pressure and
+    fraction under-relaxed, then the lip alone with the film frozen: displacement
+    and, for a lifting lip, the shaft radius with the load equation, in the
+    periodic constraints
+    (:class:`~dolfinx_seal.coupled.partitioned.PartitionedSolver`, ``position =
+    "solid"``).  The converged fixed point is the coupled point; the coupled
+    Newton takes it to the coupled solver's tolerance.
+    """
+    prob = lub.problem
+    prob.restore(start)
+    ps = PartitionedSolver(
+        prob, position="solid", solid_options=PARTITIONED_LIP_OPTIONS,
+        film_step=lambda at: solve_film(lub, at, solver=lub.film_polish, release=False),
+    )  # fmt: skip
+    try:
+        rep = ps.solve(PARTITIONED_FALLBACK, where=where)
+    except SolverError as e:
+        prob.restore(start)
+        return 0, False, e.what
+    finally:
+        ps.destroy()
+    its = rep.newton_film + rep.newton_solid
+    o = PARTITIONED_FALLBACK
+    get_logger().info("%s: partitioned scheme %s after %d iterations (%.1f s), change %.2e",
+                      where, "converged" if rep.converged else "stopped", rep.iterations,
+                      rep.wall_time_s, rep.changes[-1])  # fmt: skip
+    if not rep.converged:
+        prob.restore(start)
+        return its, False, (f"not converged after {rep.iterations} iterations (relaxation "
+                            f"{o.relaxation:g}; last relative pressure change "
+                            f"{rep.changes[-1]:.2e}, tolerance {o.tol:g})")  # fmt: skip
+    if prob.film.params.discrete_upwinding:  # the term of the partitioned point's lip
+        attach_discrete_upwinding(prob.solver, *_film_blocks(prob))
+    n, converged = _coupled_newton(lub, f"{where}: from the partitioned point", prob.state())
+    if not converged:
+        prob.restore(start)
+        return its + n, False, "the coupled Newton from its fixed point failed"
+    return its + n, True, ""
 
 
 def _is_state(prob: Any, state: list[Any]) -> bool:
