@@ -1493,12 +1493,13 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
 #: S0's partitioned scheme as the coupled sliding solve's last resort
 #: (:func:`_coupled_partitioned`): the film pressure and fraction moved by 0.2 of
 #: their change per iteration, until the unrelaxed change of the pressure falls below
-#: 1e-5 of its maximum; stopped after 200 iterations, or 40 that do not halve the
-#: smallest change.  Measured on the lifting default band (floor 0.1,
-#: ``film.discrete_upwinding``, two ranks) from 3 mm/s, where the coupled Newton
-#: and its pseudo-time fall into NaNs at 1 cm/s: 87 iterations, 331 s, then 5
-#: coupled Newton steps; at 3 cm/s from 1 cm/s the change stayed at 1.8-2.4 from the
-#: 6th to the 41st iteration (docs/scenes/lip-sector.md).
+#: 1e-5 of its maximum; stopped after 200 iterations, or after 40 in which the
+#: change did not halve.  Measured on the lifting default band (floor 0.1,
+#: ``film.discrete_upwinding``, ``tangent``, two ranks) from 3 mm/s, where the
+#: coupled Newton and its pseudo-time fall into NaNs at 1 cm/s: 87 iterations,
+#: 216 s, then the coupled Newton.  Past 1 cm/s (steps of 1/2 to 1/16 of a decade)
+#: it stopped after 41 iterations, the change still 2.1 to 0.16: at this relaxation
+#: the iteration does not contract there (docs/scenes/lip-sector.md).
 PARTITIONED_FALLBACK = PartitionedOptions(relaxation=0.2, tol=1e-5, max_iterations=200,
                                           stall_iterations=40)  # fmt: skip
 #: the lip's solves in the partitioned scheme (the film frozen): plain Newton to 1e-9
