@@ -1498,8 +1498,8 @@ def solve_sliding(lub: SectorLip, where: str) -> int:
 #: ``film.discrete_upwinding``, ``tangent``, two ranks) from 3 mm/s, where the
 #: coupled Newton and its pseudo-time fall into NaNs at 1 cm/s: 87 iterations,
 #: 216 s, then the coupled Newton.  Past 1 cm/s (steps of 1/2 to 1/16 of a decade)
-#: it stopped after 41 iterations, the change still 2.1 to 0.16: at this relaxation
-#: the iteration does not contract there (docs/scenes/lip-sector.md).
+#: it stopped after 41 iterations, the change still 2.1 to 0.16, not halved in 40
+#: (docs/scenes/lip-sector.md).
 PARTITIONED_FALLBACK = PartitionedOptions(relaxation=0.2, tol=1e-5, max_iterations=200,
                                           stall_iterations=40)  # fmt: skip
 #: the lip's solves in the partitioned scheme (the film frozen): plain Newton to 1e-9
