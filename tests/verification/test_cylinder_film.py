@@ -430,7 +430,8 @@ def test_the_partitioned_scheme_stops_when_it_stalls():
     """``stall_iterations``: a loop whose change has not halved in that many
     iterations stops unconverged, its iterations counted.  Relaxation 0.3 on the
     cylinder at 1e-3 m/s (mixed lubrication) does not converge: measured, the
-    change still 0.7-1.0 after 1000 iterations (relaxation 0.1 converges in 300).
+    change still 0.7-1.0 after 1000 iterations (with the sub-solves at the coupled
+    tolerances, before ``SUBSOLVE_TOLERANCES``; relaxation 0.1 converges in 300).
     """
     from dolfinx_seal.coupled.partitioned import PartitionedOptions, PartitionedSolver
 
