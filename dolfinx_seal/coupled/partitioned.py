@@ -36,6 +36,7 @@ import numpy as np
 from mpi4py import MPI
 
 from dolfinx_seal.errors import SolverError
+from dolfinx_seal.mpi import get_logger
 from dolfinx_seal.params import check_choice, check_int_range, check_positive, check_range
 from dolfinx_seal.solid.step_limits import displacement_limiter
 from dolfinx_seal.solvers import NonlinearSolver
@@ -50,6 +51,8 @@ from dolfinx_seal.solvers.assembly import ProjectedMPCAssembly
 #: converged one 1e-11) and the loop's fixed point lay 5e-6 off the monolithic
 #: point in mu, 3.3e-5 in h_min; solved to round-off, 2.5e-9 and 5.5e-9.
 SUBSOLVE_TOLERANCES = {"rtol": 1e-20, "atol": 1e-300}
+#: iterations between the loop's progress lines (the logger's ``info``)
+PROGRESS_EVERY = 10
 
 
 @dataclass(frozen=True)
@@ -188,6 +191,8 @@ class PartitionedSolver:
             change = dmax / max(pmax, 1e-300) / o.relaxation  # the unrelaxed change
             rep.changes.append(change)
             rep.iterations = k
+            if k % PROGRESS_EVERY == 0:  # a loop can run for minutes: show where it is
+                get_logger().info("%s: relative pressure change %.2e", where_k, change)
             if change < o.tol:
                 rep.converged = True
                 break
